@@ -1,0 +1,62 @@
+# cam_ros: every target runs in the project's own virtual environment (.venv), made by `make setup`.
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+IFACE_BUILD := $(VENV)/build/cam_ros_interfaces
+CONFIG ?= config/default.yaml
+PYTEST_ARGS ?=
+
+.PHONY: setup run test lint bench lock clean
+
+setup: $(VENV)/.cam_ros.stamp
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+
+$(VENV)/.deps.stamp: requirements.lock | $(PY)
+	$(PY) -m pip install --quiet -r requirements.lock
+	touch $@
+
+# The interface package is a real ament_cmake package, built with CMake straight into the venv.
+$(VENV)/.interfaces.stamp: $(VENV)/.deps.stamp $(wildcard cam_ros_interfaces/*.* cam_ros_interfaces/srv/*)
+	rm -rf $(IFACE_BUILD) && mkdir -p $(IFACE_BUILD)
+	prefix=$$(cd $(VENV) && pwd); export PATH="$$prefix/bin:$$PATH" AMENT_PREFIX_PATH="$$prefix"; \
+	cmake -S cam_ros_interfaces -B $(IFACE_BUILD) -DCMAKE_PREFIX_PATH="$$prefix" \
+	  -DCMAKE_INSTALL_PREFIX="$$prefix" -DPython3_EXECUTABLE="$$prefix/bin/python" \
+	  -DBUILD_TESTING=OFF > $(IFACE_BUILD).configure.log 2>&1 \
+	  || { cat $(IFACE_BUILD).configure.log; exit 1; }
+	cmake --build $(IFACE_BUILD) -j2 > $(IFACE_BUILD).build.log 2>&1 \
+	  || { tail -50 $(IFACE_BUILD).build.log; exit 1; }
+	cmake --install $(IFACE_BUILD) > /dev/null
+	touch $@
+
+$(VENV)/.cam_ros.stamp: $(VENV)/.interfaces.stamp setup.py setup.cfg package.xml $(wildcard config/*.yaml)
+	$(PY) -m pip install --quiet --no-deps --no-build-isolation -e .
+	touch $@
+
+run: setup
+	$(VENV)/bin/cam_node --ros-args --params-file $(CONFIG)
+
+test: setup
+	$(PY) -m pytest $(PYTEST_ARGS)
+
+bench: setup
+	$(PY) -m benchmarks
+
+# Pins every distribution pip installed (egg-info folders that ROS wheels embed are not distributions).
+lock: | $(PY)
+	{ sed -n '1,2p' requirements.lock; $(PY) -c "$$LOCK_PY"; } > requirements.lock.new
+	mv requirements.lock.new requirements.lock
+
+define LOCK_PY
+import importlib.metadata as md
+pins = {f"{d.metadata['Name']}=={d.version}" for d in md.distributions()
+        if d.read_text('INSTALLER') and d.read_text('direct_url.json') is None
+        and d.metadata['Name'] != 'pip'}
+print('\n'.join(sorted(pins, key=str.lower)))
+endef
+export LOCK_PY
+
+clean:
+	rm -rf $(VENV) build install log .pytest_cache .mypy_cache

@@ -1,0 +1,1 @@
+"""cam_ros: disk-cam / follower kinematics served to ROS 2."""

@@ -1,0 +1,129 @@
+"""Base class of the normalised motion laws and the search for their characteristic values."""
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from functools import cached_property
+import math
+from typing import Callable, ClassVar, NamedTuple
+
+from cam_ros.core.errors import InvalidParameter
+import numpy as np
+import numpy.typing as npt
+from scipy.optimize import minimize_scalar
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Samples per law piece in the search for the peaks of |y'|, |y''|, |y'''|.
+PEAK_SAMPLES = 1025
+#: Bracket tolerance (in u) of the refinement of each sampled peak.
+PEAK_XATOL = 1e-13
+#: A jump of y, y' or y'' larger than this at an interior breakpoint makes the next peak infinite.
+INTERIOR_JUMP_TOLERANCE = 1e-9
+
+
+class LawValues(NamedTuple):
+    """Normalised displacement y(u) and its first three derivatives with respect to u."""
+
+    y: FloatArray
+    y1: FloatArray
+    y2: FloatArray
+    y3: FloatArray
+
+
+Derivatives = Callable[[FloatArray], LawValues]
+
+
+def full_like(u: FloatArray, value: float) -> FloatArray:
+    """Return an array shaped like u filled with value."""
+    return np.full(np.shape(u), value, dtype=float)
+
+
+@dataclass(frozen=True)
+class MotionLaw(ABC):
+    """
+    A normalised rise y(u) on u in [0, 1] with y(0) = 0 and y(1) = 1 (a dwell stays at 0).
+
+    `evaluate` rejects u outside [0, 1] (a motion program maps each cam angle into its segment,
+    so a law is never asked to extrapolate).  The characteristic values `cv`, `ca`, `cj` are the
+    peaks of |y'|, |y''|, |y'''| over [0, 1], found once by dense sampling of every piece and a
+    bounded refinement of the largest sample.  A jump of y, y' or y'' *inside* the law (at one of
+    its `breakpoints`) makes the next peak infinite (constant acceleration: cj = inf).  Jumps at
+    u = 0 or 1 against the neighbouring segments are the motion program's business: its
+    continuity report lists them (constant velocity: cv = 1, ca = cj = 0 inside the law, but y'
+    jumps against a dwell, an acceleration impulse).
+    """
+
+    name: ClassVar[str]
+
+    @abstractmethod
+    def _derivatives(self, u: FloatArray) -> LawValues:
+        """Return y, y', y'', y''' at u, already checked to lie in [0, 1]."""
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Interior values of u where the law switches piece (empty for a single formula)."""
+        return ()
+
+    def evaluate(self, u: npt.ArrayLike) -> LawValues:
+        """Return y and its first three derivatives at u in [0, 1] (arrays shaped like u)."""
+        x = np.asarray(u, dtype=float)
+        inside = (x >= 0.0) & (x <= 1.0)
+        if not np.all(inside):
+            raise InvalidParameter('u', float(x[~inside].flat[0]), 'must lie in [0, 1]')
+        return self._derivatives(x)
+
+    @cached_property
+    def _characteristic_values(self) -> tuple[float, float, float]:
+        return characteristic_values(self._derivatives, self.breakpoints)
+
+    @property
+    def cv(self) -> float:
+        """Peak of |y'| over [0, 1] (velocity coefficient)."""
+        return self._characteristic_values[0]
+
+    @property
+    def ca(self) -> float:
+        """Peak of |y''| over [0, 1] (acceleration coefficient; inf if y' jumps inside)."""
+        return self._characteristic_values[1]
+
+    @property
+    def cj(self) -> float:
+        """Peak of |y'''| over [0, 1] (jerk coefficient; inf if y' or y'' jumps inside)."""
+        return self._characteristic_values[2]
+
+
+def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:
+    """
+    Return a (pieces, samples) grid of u covering each piece between breakpoints.
+
+    Row p starts at the piece's first u and ends one ulp before the next breakpoint, so that
+    every sample is evaluated by the formula of its own piece (the last row ends at u = 1).
+    """
+    edges = np.array([0.0, *breakpoints, 1.0])
+    low = edges[:-1]
+    high = np.nextafter(edges[1:], -np.inf)
+    high[-1] = 1.0
+    return low[:, None] + (high - low)[:, None] * np.linspace(0.0, 1.0, samples)
+
+
+def characteristic_values(derivatives: Derivatives,
+                          breakpoints: tuple[float, ...]) -> tuple[float, float, float]:
+    """Return the peaks of |y'|, |y''|, |y'''| of a law given by its derivatives function."""
+    grid = piece_grid(breakpoints, PEAK_SAMPLES)
+    values = derivatives(grid)
+    peaks: list[float] = []
+    for order in (1, 2, 3):
+        lower = values[order - 1]
+        jumps = np.abs(lower[1:, 0] - lower[:-1, -1])
+        if (peaks and math.isinf(peaks[-1])) or np.any(jumps > INTERIOR_JUMP_TOLERANCE):
+            peaks.append(math.inf)
+            continue
+        magnitude = np.abs(values[order])
+        piece, index = np.unravel_index(np.argmax(magnitude), magnitude.shape)
+        row = grid[piece]
+        bounds = (row[max(index - 1, 0)], row[min(index + 1, row.size - 1)])
+        refined = minimize_scalar(
+            lambda x: -abs(float(derivatives(np.array(x))[order])),
+            bounds=bounds, method='bounded', options={'xatol': PEAK_XATOL})
+        peaks.append(max(float(magnitude[piece, index]), -float(refined.fun)))
+    return peaks[0], peaks[1], peaks[2]

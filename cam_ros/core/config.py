@@ -1,0 +1,325 @@
+"""The cam config format: one ROS 2 parameters file shared by the node, the CLI and the core.
+
+A file looks like::
+
+    /**:                      # or the node name, cam
+      ros__parameters:
+        length_unit: cm       # m, cm, mm or in: every length below is in this unit
+        follower:
+          type: translating_roller
+          base_radius: 4.0
+          ...
+        motion:
+          laws: [dwell, cycloidal, dwell, simple_harmonic]
+          start_deg: [0.0, 90.0, 180.0, 240.0]
+          ...
+
+Nested keys flatten to dotted ROS parameter names (``follower.base_radius``). Every parameter is
+listed once in :data:`PARAMETERS` with its type, default, unit and rule; the node declares exactly
+these, and :func:`parse_parameters` applies the same rules without ROS, so a file the CLI accepts is
+a file the node accepts. Values come out in SI (m, rad, s); angles in the file are in degrees.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+import yaml
+
+from .errors import InvalidParameter
+
+LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
+FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller', 'oscillating_flat')
+ROTATIONS = ('clockwise', 'counterclockwise')
+COMPRESSIONS = ('zstd', 'lz4', 'none')
+NODE_NAMES = ('cam', '/cam', '/**')
+REQUIRED = object()  # default of a parameter the file must give
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One parameter of the config format: ROS type, default, unit and rule (for the descriptor)."""
+
+    name: str
+    type: str  # 'double', 'integer', 'string', 'bool', 'double_array', 'integer_array', 'string_array'
+    default: Any
+    description: str
+    unit: str = ''
+    minimum: float | None = None
+    maximum: float | None = None
+    choices: tuple[str, ...] = ()
+    read_only: bool = False
+
+    @property
+    def rule(self) -> str:
+        """Say in words what a valid value is."""
+        parts = [f'a {self.type.replace("_", " ")}']
+        if self.choices:
+            parts.append('one of ' + ', '.join(self.choices))
+        if self.minimum is not None and self.maximum is not None:
+            parts.append(f'in [{self.minimum:g}, {self.maximum:g}]')
+        elif self.minimum is not None:
+            parts.append(f'>= {self.minimum:g}')
+        return ', '.join(parts)
+
+
+def _p(name: str, type_: str, default: Any, description: str, **kw: Any) -> ParameterSpec:
+    return ParameterSpec(name, type_, default, description, **kw)
+
+
+PARAMETERS: tuple[ParameterSpec, ...] = (
+    _p('length_unit', 'string', 'm', 'Unit of every length in this file', choices=tuple(LENGTH_UNITS)),
+    _p('rotation', 'string', 'clockwise', 'Direction the cam turns, seen from +z', choices=ROTATIONS),
+    _p('cam_speed', 'double', 2 * math.pi, 'Constant cam speed', unit='rad/s',
+       minimum=1e-9, maximum=1e5),
+    _p('follower.type', 'string', REQUIRED, 'Follower kind', choices=FOLLOWER_TYPES),
+    _p('follower.base_radius', 'double', REQUIRED, 'Base circle radius of the cam surface',
+       unit='length_unit', minimum=0.0),
+    _p('follower.roller_radius', 'double', 0.0, 'Roller radius (roller followers)',
+       unit='length_unit', minimum=0.0),
+    _p('follower.offset', 'double', 0.0, 'Offset e of a translating follower\'s line of travel '
+       'from the cam centre (+x side positive)', unit='length_unit'),
+    _p('follower.pivot_distance', 'double', 0.0, 'Distance from cam centre to the arm pivot '
+       '(oscillating followers)', unit='length_unit', minimum=0.0),
+    _p('follower.arm_length', 'double', 0.0, 'Pivot to roller centre (oscillating roller)',
+       unit='length_unit', minimum=0.0),
+    _p('follower.face_offset', 'double', 0.0, 'Distance of the flat face from the arm pivot '
+       '(oscillating flat-faced)', unit='length_unit'),
+    _p('follower.arm_turns_with_cam', 'bool', False, 'Oscillating arm turns in the cam\'s sense '
+       'while it rises'),
+    _p('motion.laws', 'string_array', REQUIRED, 'Motion law of each segment'),
+    _p('motion.start_deg', 'double_array', REQUIRED, 'Cam angle where each segment starts',
+       unit='deg'),
+    _p('motion.end_deg', 'double_array', REQUIRED, 'Cam angle where each segment ends', unit='deg'),
+    _p('motion.start_position', 'double_array', REQUIRED, 'Follower position at each segment '
+       'start (length_unit; deg of arm angle for oscillating followers)', unit='length_unit|deg'),
+    _p('motion.end_position', 'double_array', REQUIRED, 'Follower position at each segment end',
+       unit='length_unit|deg'),
+    _p('motion.via_segment', 'integer_array', [], 'Segment index of each via point'),
+    _p('motion.via_deg', 'double_array', [], 'Cam angle of each via point', unit='deg'),
+    _p('motion.via_position', 'double_array', [], 'Follower position at each via point',
+       unit='length_unit|deg'),
+    _p('motion.scca_fractions', 'double_array', [], 'SCCA fractions b, c, d (sum 1) for scca '
+       'segments'),
+    _p('motion.table_u', 'double_array', [], 'Normalised abscissae 0..1 of the table law'),
+    _p('motion.table_y', 'double_array', [], 'Normalised rise 0..1 of the table law'),
+    _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
+       unit='deg', minimum=0.0, maximum=89.0),
+    _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
+       'of the cam surface where convex', unit='length_unit', minimum=0.0),
+    _p('output.sample_count', 'integer', 360, 'Samples per revolution on the profile topics',
+       minimum=8, maximum=100000),
+    _p('output.state_rate_hz', 'double', 50.0, 'Rate of the live state topic', unit='Hz',
+       minimum=0.1, maximum=1000.0),
+    _p('output.max_batch', 'integer', 1000000, 'Most angles one evaluate call may carry',
+       minimum=1, maximum=10000000),
+    _p('recording.enabled', 'bool', False, 'Record the node\'s topics to MCAP from start-up'),
+    _p('recording.directory', 'string', 'recordings', 'Folder of the MCAP recordings'),
+    _p('recording.compression', 'string', 'zstd', 'Chunk compression', choices=COMPRESSIONS),
+)
+SPECS: dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
+
+
+@dataclass(frozen=True)
+class FollowerConfig:
+    """Follower parameters in SI (m); irrelevant fields of a kind stay at their defaults."""
+
+    type: str
+    base_radius: float
+    roller_radius: float
+    offset: float
+    pivot_distance: float
+    arm_length: float
+    face_offset: float
+    arm_turns_with_cam: bool
+
+
+@dataclass(frozen=True)
+class MotionConfig:
+    """Motion segments in SI: angles in rad; positions in m (rad for oscillating followers)."""
+
+    laws: tuple[str, ...]
+    start: tuple[float, ...]
+    end: tuple[float, ...]
+    start_position: tuple[float, ...]
+    end_position: tuple[float, ...]
+    via_segment: tuple[int, ...]
+    via_angle: tuple[float, ...]
+    via_position: tuple[float, ...]
+    scca_fractions: tuple[float, ...]
+    table_u: tuple[float, ...]
+    table_y: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class CamConfig:
+    """A whole config file, type-checked and converted to SI; the design layer builds the cam."""
+
+    length_unit: str
+    clockwise: bool
+    cam_speed: float
+    follower: FollowerConfig
+    motion: MotionConfig
+    pressure_angle_limit: float
+    min_radius_of_curvature: float
+    sample_count: int
+    state_rate_hz: float
+    max_batch: int
+    recording_enabled: bool
+    recording_directory: str
+    recording_compression: str
+    parameters: Mapping[str, Any]  # the flat values as written, for reports and recordings
+
+
+def flatten(tree: Mapping[str, Any], prefix: str = '') -> dict[str, Any]:
+    """Flatten nested YAML mappings into dotted ROS parameter names."""
+    flat: dict[str, Any] = {}
+    for key, value in tree.items():
+        name = f'{prefix}{key}'
+        if isinstance(value, Mapping):
+            flat.update(flatten(value, f'{name}.'))
+        else:
+            flat[name] = value
+    return flat
+
+
+def read_parameters_file(path: str | Path) -> dict[str, Any]:
+    """Read a ROS 2 parameters file and return its cam node's flat parameters."""
+    try:
+        text = Path(path).read_text()
+    except OSError as err:
+        raise InvalidParameter('config', str(path), f'cannot be read ({err.strerror})') from err
+    try:
+        document = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        raise InvalidParameter('config', str(path), f'is not valid YAML: {err}') from err
+    if not isinstance(document, Mapping):
+        raise InvalidParameter('config', str(path), 'must be a mapping with a node name at the top')
+    for node_name in NODE_NAMES:
+        section = document.get(node_name)
+        if isinstance(section, Mapping) and isinstance(section.get('ros__parameters'), Mapping):
+            return flatten(section['ros__parameters'])
+    raise InvalidParameter('config', str(path),
+                           f'needs one of {", ".join(NODE_NAMES)} with ros__parameters under it')
+
+
+def _check_type(spec: ParameterSpec, value: Any) -> Any:
+    """Return value if it has the spec's ROS type (as rclpy judges it), else raise."""
+    scalar = spec.type.removesuffix('_array')
+    python_type = {'double': float, 'integer': int, 'string': str, 'bool': bool}[scalar]
+
+    def ok(item: Any) -> bool:
+        return isinstance(item, python_type) and not (python_type is int and isinstance(item, bool))
+
+    if spec.type.endswith('_array'):
+        if not isinstance(value, (list, tuple)) or not all(ok(item) for item in value):
+            hint = ' (write 1.0, not 1)' if scalar == 'double' else ''
+            raise InvalidParameter(spec.name, value, f'must be a list of {scalar}s{hint}')
+        return tuple(value)
+    if not ok(value):
+        hint = ' (write 1.0, not 1)' if scalar == 'double' and isinstance(value, int) else ''
+        raise InvalidParameter(spec.name, value, f'must be a {scalar}{hint}')
+    return value
+
+
+def _check_range(spec: ParameterSpec, value: Any) -> None:
+    if spec.choices and value not in spec.choices:
+        raise InvalidParameter(spec.name, value, 'must be one of ' + ', '.join(spec.choices))
+    items = value if isinstance(value, tuple) else (value,)
+    for item in items:
+        if isinstance(item, float) and not math.isfinite(item):
+            raise InvalidParameter(spec.name, value, 'must be finite')
+        if spec.minimum is not None and isinstance(item, (int, float)) and item < spec.minimum:
+            raise InvalidParameter(spec.name, value, f'must be >= {spec.minimum:g}')
+        if spec.maximum is not None and isinstance(item, (int, float)) and item > spec.maximum:
+            raise InvalidParameter(spec.name, value, f'must be <= {spec.maximum:g}')
+
+
+def check_parameter(name: str, value: Any) -> Any:
+    """Type- and range-check one parameter value; return it (arrays as tuples)."""
+    spec = SPECS.get(name)
+    if spec is None:
+        close = difflib.get_close_matches(name, SPECS, n=1)
+        hint = f' (did you mean {close[0]}?)' if close else ''
+        raise InvalidParameter(name, value, f'is not a cam parameter{hint}')
+    checked = _check_type(spec, value)
+    _check_range(spec, checked)
+    return checked
+
+
+def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
+    """Check flat parameter values against :data:`PARAMETERS` and convert them to SI."""
+    values: dict[str, Any] = {}
+    for name, value in flat.items():
+        values[name] = check_parameter(name, value)
+    for spec in PARAMETERS:
+        if spec.name not in values:
+            if spec.default is REQUIRED:
+                raise InvalidParameter(spec.name, None, f'is required ({spec.rule})')
+            values[spec.name] = check_parameter(spec.name, spec.default)
+    metre = LENGTH_UNITS[values['length_unit']]
+    oscillating = values['follower.type'].startswith('oscillating')
+    position_scale = math.radians(1.0) if oscillating else metre
+
+    def lengths(*names: str) -> list[float]:
+        return [values[name] * metre for name in names]
+
+    def scaled(name: str, scale: float) -> tuple[float, ...]:
+        return tuple(item * scale for item in values[name])
+
+    follower = FollowerConfig(
+        values['follower.type'],
+        *lengths('follower.base_radius', 'follower.roller_radius', 'follower.offset',
+                 'follower.pivot_distance', 'follower.arm_length', 'follower.face_offset'),
+        values['follower.arm_turns_with_cam'])
+    radian = math.radians(1.0)
+    motion = MotionConfig(
+        laws=values['motion.laws'],
+        start=scaled('motion.start_deg', radian),
+        end=scaled('motion.end_deg', radian),
+        start_position=scaled('motion.start_position', position_scale),
+        end_position=scaled('motion.end_position', position_scale),
+        via_segment=values['motion.via_segment'],
+        via_angle=scaled('motion.via_deg', radian),
+        via_position=scaled('motion.via_position', position_scale),
+        scca_fractions=values['motion.scca_fractions'],
+        table_u=values['motion.table_u'],
+        table_y=values['motion.table_y'],
+    )
+    _check_parallel(values, ('motion.laws', 'motion.start_deg', 'motion.end_deg',
+                             'motion.start_position', 'motion.end_position'))
+    _check_parallel(values, ('motion.via_segment', 'motion.via_deg', 'motion.via_position'))
+    _check_parallel(values, ('motion.table_u', 'motion.table_y'))
+    return CamConfig(
+        length_unit=values['length_unit'],
+        clockwise=values['rotation'] == 'clockwise',
+        cam_speed=values['cam_speed'],
+        follower=follower,
+        motion=motion,
+        pressure_angle_limit=math.radians(values['limits.pressure_angle_deg']),
+        min_radius_of_curvature=values['limits.min_radius_of_curvature'] * metre,
+        sample_count=values['output.sample_count'],
+        state_rate_hz=values['output.state_rate_hz'],
+        max_batch=values['output.max_batch'],
+        recording_enabled=values['recording.enabled'],
+        recording_directory=values['recording.directory'],
+        recording_compression=values['recording.compression'],
+        parameters=dict(values),
+    )
+
+
+def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:
+    """Raise unless the parallel arrays named have one length."""
+    length = len(values[names[0]])
+    for name in names[1:]:
+        if len(values[name]) != length:
+            raise InvalidParameter(name, list(values[name]),
+                                   f'must have {length} entries, one per entry of {names[0]}')
+
+
+def load_config(path: str | Path) -> CamConfig:
+    """Read and check a cam parameters file (the CLI's and the core's entry point)."""
+    return parse_parameters(read_parameters_file(path))

@@ -1,0 +1,276 @@
+"""cam_node: serves one validated cam design to ROS 2 (parameters, services, topics).
+
+The node only holds parameters, endpoints and message conversions; every number comes from
+:mod:`cam_ros.core`. An invalid parameter update is rejected with the core's reason and the node
+keeps serving its previous design.
+"""
+from __future__ import annotations
+
+import array
+import math
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+import rclpy
+from builtin_interfaces.msg import Duration
+from cam_ros_interfaces.srv import EvaluateCam
+from geometry_msgs.msg import Point, Vector3Stamped
+from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
+                                ParameterType, SetParametersResult)
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray, MultiArrayDimension
+from std_srvs.srv import SetBool, Trigger
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+from visualization_msgs.msg import Marker, MarkerArray
+
+from cam_ros.core import CamDesign, CamError, build_design, check_angles, parse_parameters
+from cam_ros.core.config import (PARAMETERS, REQUIRED, SPECS, ParameterSpec,
+                                 read_parameters_file)
+from cam_ros.paths import default_config_path
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+STATE_QOS = QoSProfile(depth=10)
+ROS_TYPES = {
+    'double': ParameterType.PARAMETER_DOUBLE, 'integer': ParameterType.PARAMETER_INTEGER,
+    'string': ParameterType.PARAMETER_STRING, 'bool': ParameterType.PARAMETER_BOOL,
+    'double_array': ParameterType.PARAMETER_DOUBLE_ARRAY,
+    'integer_array': ParameterType.PARAMETER_INTEGER_ARRAY,
+    'string_array': ParameterType.PARAMETER_STRING_ARRAY,
+}
+CAM_FRAME = 'cam'
+
+
+def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
+    """Turn a config-format parameter spec into a ROS parameter descriptor."""
+    unit = f' [{spec.unit}]' if spec.unit else ''
+    choices = f' One of: {", ".join(spec.choices)}.' if spec.choices else ''
+    result = ParameterDescriptor(name=spec.name, type=ROS_TYPES[spec.type],
+                                 description=f'{spec.description}{unit}.{choices}',
+                                 read_only=spec.read_only)
+    if spec.minimum is not None and spec.maximum is not None:
+        if spec.type == 'double':
+            result.floating_point_range = [FloatingPointRange(
+                from_value=float(spec.minimum), to_value=float(spec.maximum))]
+        elif spec.type == 'integer':
+            result.integer_range = [IntegerRange(
+                from_value=int(spec.minimum), to_value=int(spec.maximum), step=1)]
+    return result
+
+
+def as_float64(values: np.ndarray) -> array.array:
+    """Convert a float64 array to the message field type without a per-element loop."""
+    return array.array('d', np.ascontiguousarray(values, dtype=np.float64).tobytes())
+
+
+def duration(seconds: float) -> Duration:
+    """Build a builtin_interfaces/Duration from seconds."""
+    nanoseconds = int(round(seconds * 1e9))
+    return Duration(sec=nanoseconds // 1_000_000_000, nanosec=nanoseconds % 1_000_000_000)
+
+
+class CamNode(Node):
+    """Holds one cam design and serves it: evaluate service, latched profile, live state."""
+
+    def __init__(self, params_file: Path | None = None, **kwargs: Any):
+        super().__init__('cam', **kwargs)
+        self._params_file = params_file
+        for spec in PARAMETERS:
+            if spec.default is REQUIRED:
+                self.declare_parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]),
+                                       descriptor(spec))
+            else:
+                self.declare_parameter(spec.name, spec.default, descriptor(spec))
+        self.design: CamDesign = build_design(parse_parameters(self._current_values()))
+        self._pending: CamDesign | None = None
+        self.add_on_set_parameters_callback(self._validate_update)
+        self.add_post_set_parameters_callback(self._apply_update)
+
+        self._profile_pub = self.create_publisher(JointTrajectory, '~/profile', LATCHED)
+        self._pressure_pub = self.create_publisher(Float64MultiArray, '~/pressure_angle', LATCHED)
+        self._markers_pub = self.create_publisher(MarkerArray, '~/markers', LATCHED)
+        self._joint_pub = self.create_publisher(JointState, '~/joint_states', STATE_QOS)
+        self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
+        self.create_service(EvaluateCam, '~/evaluate', self._evaluate)
+        self.create_service(Trigger, '~/reload', self._reload)
+        self.create_service(SetBool, '~/record', self._record)
+        self._start_ns = self.get_clock().now().nanoseconds
+        self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
+                                              self._publish_state)
+        self._publish_design()
+        self._log_design()
+        name = self.get_fully_qualified_name()
+        self.get_logger().info(
+            f'serving {name}/evaluate; topics {name}/profile, pressure_angle, markers '
+            f'(latched), joint_states, state_extras ({self.design.config.state_rate_hz:g} Hz)')
+
+    # Parameters ---------------------------------------------------------------------------
+    def _current_values(self, updates: Sequence[Parameter] = ()) -> dict[str, Any]:
+        """Return the flat cam parameter values, with the updates applied, for the core."""
+        values = {spec.name: self.get_parameter(spec.name).value for spec in PARAMETERS}
+        values.update((param.name, param.value) for param in updates if param.name in SPECS)
+        return {name: list(value) if isinstance(value, (array.array, tuple)) else value
+                for name, value in values.items() if value is not None}
+
+    def _validate_update(self, updates: list[Parameter]) -> SetParametersResult:
+        try:
+            self._pending = build_design(parse_parameters(self._current_values(updates)))
+        except CamError as err:
+            self._pending = None
+            return SetParametersResult(successful=False, reason=str(err))
+        return SetParametersResult(successful=True)
+
+    def _apply_update(self, updates: list[Parameter]) -> None:
+        if self._pending is None:
+            return
+        self.design, self._pending = self._pending, None
+        self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
+        self._publish_design()
+        self._log_design()
+
+    def _log_design(self) -> None:
+        self.get_logger().info(self.design.summary())
+        for warning in self.design.warnings():
+            self.get_logger().warning(warning)
+
+    # Services -----------------------------------------------------------------------------
+    def _evaluate(self, request: EvaluateCam.Request,
+                  response: EvaluateCam.Response) -> EvaluateCam.Response:
+        angles = np.frombuffer(request.angles, dtype=np.float64)
+        design = self.design
+        problem = check_angles(angles, design.config.max_batch)
+        if problem:
+            response.success, response.message = False, problem
+            return response
+        state = design.evaluate(angles)
+        response.position = as_float64(state.position)
+        response.velocity = as_float64(state.velocity)
+        response.acceleration = as_float64(state.acceleration)
+        response.jerk = as_float64(state.jerk)
+        response.pressure_angle = as_float64(state.pressure_angle)
+        response.radius_of_curvature = as_float64(state.radius_of_curvature)
+        response.success, response.message = True, f'{angles.size} angles evaluated'
+        return response
+
+    def _reload(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
+        path = self._params_file or default_config_path()
+        try:
+            values = read_parameters_file(path)
+        except CamError as err:
+            response.success, response.message = False, str(err)
+            return response
+        result = self.set_parameters_atomically(
+            [Parameter(name, value=value) for name, value in values.items()])
+        response.success = result.successful
+        response.message = f'reloaded {path}' if result.successful else result.reason
+        return response
+
+    def _record(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
+        response.success, response.message = False, 'recording is not available yet'
+        return response
+
+    # Topics -------------------------------------------------------------------------------
+    def _publish_design(self) -> None:
+        design = self.design
+        profile = design.profile(design.config.sample_count)
+        stamp = self.get_clock().now().to_msg()
+        trajectory = JointTrajectory(joint_names=['follower'])
+        trajectory.header.stamp = stamp
+        trajectory.header.frame_id = CAM_FRAME
+        omega = design.config.cam_speed
+        trajectory.points = [
+            JointTrajectoryPoint(positions=[s], velocities=[v], accelerations=[a],
+                                 time_from_start=duration(theta / omega))
+            for theta, s, v, a in zip(profile.angle.tolist(), profile.position.tolist(),
+                                      profile.velocity.tolist(), profile.acceleration.tolist())]
+        self._profile_pub.publish(trajectory)
+        count = profile.angle.size
+        pressure = Float64MultiArray()
+        pressure.layout.dim = [
+            MultiArrayDimension(label='cam_angle_rad,pressure_angle_rad', size=2,
+                                stride=2 * count),
+            MultiArrayDimension(label='sample', size=count, stride=count)]
+        pressure.data = as_float64(np.concatenate([profile.angle, profile.pressure_angle]))
+        self._pressure_pub.publish(pressure)
+        self._markers_pub.publish(self._markers(stamp))
+
+    def _markers(self, stamp: Any) -> MarkerArray:
+        outline = self.design.outline(self.design.config.sample_count)
+        curves = (('cam_surface', outline.surface, (0.2, 0.4, 0.9)),
+                  ('pitch_curve', outline.pitch, (0.9, 0.5, 0.1)),
+                  ('base_circle', outline.base_circle, (0.5, 0.5, 0.5)))
+        markers = MarkerArray()
+        for index, (namespace, xy, rgb) in enumerate(curves):
+            marker = Marker(ns=namespace, id=index, type=Marker.LINE_STRIP, action=Marker.ADD)
+            marker.header.stamp = stamp
+            marker.header.frame_id = CAM_FRAME
+            marker.pose.orientation.w = 1.0
+            marker.scale.x = 0.0005
+            marker.color.r, marker.color.g, marker.color.b = rgb
+            marker.color.a = 1.0
+            closed = np.vstack([xy, xy[:1]])
+            marker.points = [Point(x=x, y=y) for x, y in closed.tolist()]
+            markers.markers.append(marker)
+        return markers
+
+    def _publish_state(self) -> None:
+        now = self.get_clock().now()
+        design = self.design
+        theta = math.fmod(design.config.cam_speed * (now.nanoseconds - self._start_ns) * 1e-9,
+                          2 * math.pi)
+        state = design.evaluate(np.array([theta]))
+        stamp = now.to_msg()
+        joints = JointState(name=['cam', 'follower'],
+                            position=[theta, float(state.position[0])],
+                            velocity=[design.config.cam_speed, float(state.velocity[0])])
+        joints.header.stamp = stamp
+        joints.header.frame_id = CAM_FRAME
+        self._joint_pub.publish(joints)
+        extras = Vector3Stamped()
+        extras.header = joints.header
+        extras.vector.x = float(state.acceleration[0])
+        extras.vector.y = float(state.jerk[0])
+        extras.vector.z = float(state.pressure_angle[0])
+        self._extras_pub.publish(extras)
+
+
+def params_file_from(args: Sequence[str]) -> Path | None:
+    """Return the --params-file given in the ROS arguments, if any."""
+    for flag, value in zip(args, args[1:]):
+        if flag == '--params-file':
+            return Path(value)
+    return None
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    """Run cam_node until Ctrl-C or SIGTERM; exit 2 when the design is invalid."""
+    argv = list(sys.argv if args is None else args)
+    params_file = params_file_from(argv)
+    if params_file is None:
+        params_file = default_config_path()
+        argv += ['--ros-args', '--params-file', str(params_file)]
+    rclpy.init(args=argv)
+    node = None
+    try:
+        node = CamNode(params_file)
+        rclpy.spin(node)
+    except CamError as err:
+        print(f'cam_node: invalid design in {params_file}: {err}', file=sys.stderr)
+        return 2
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,166 @@
+"""Shared pytest harness: DDS isolation, rclpy contexts, background executors, node processes.
+
+Each test process reserves its own ROS domain id (domain_coordinator) and keeps discovery on
+localhost, so parallel runs on one machine never see each other. Subprocesses inherit both.
+"""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from contextlib import ExitStack
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterator
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+CONFIG_DIR = REPO / 'config'
+SERVICE_TIMEOUT_S = 20.0
+STOP_TIMEOUT_S = 10.0
+
+
+@pytest.fixture(scope='session')
+def ros_domain() -> Iterator[int]:
+    """Reserve a DDS domain id for this test process and export it to subprocesses."""
+    from domain_coordinator import domain_id
+
+    with domain_id() as reserved:
+        os.environ['ROS_DOMAIN_ID'] = str(reserved)
+        os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+        yield reserved
+
+
+@pytest.fixture
+def ros_context(ros_domain: int) -> Iterator[object]:
+    """Give the test its own initialised rclpy context on the reserved domain."""
+    import rclpy
+
+    context = rclpy.Context()
+    rclpy.init(context=context, domain_id=ros_domain)
+    try:
+        yield context
+    finally:
+        rclpy.try_shutdown(context=context)
+
+
+class BackgroundExecutor:
+    """A SingleThreadedExecutor spinning in a thread; add nodes, it tears down cleanly."""
+
+    def __init__(self, context: object):
+        from rclpy.executors import SingleThreadedExecutor
+
+        self.context = context
+        self.executor = SingleThreadedExecutor(context=context)
+        self._thread = threading.Thread(target=self._spin, daemon=True)
+        self._nodes: list = []
+        self._thread.start()
+
+    def _spin(self) -> None:
+        from rclpy.executors import ExternalShutdownException
+
+        try:
+            self.executor.spin()
+        except ExternalShutdownException:
+            pass
+
+    def node(self, name: str, **kwargs: object):
+        """Create a node in this context and spin it."""
+        from rclpy.node import Node
+
+        node = Node(name, context=self.context, **kwargs)
+        self._nodes.append(node)
+        self.executor.add_node(node)
+        return node
+
+    def close(self) -> None:
+        """Stop spinning, join the thread and destroy the nodes."""
+        self.executor.shutdown()
+        self._thread.join(timeout=STOP_TIMEOUT_S)
+        for node in self._nodes:
+            node.destroy_node()
+
+
+@pytest.fixture
+def executor(ros_context: object) -> Iterator[BackgroundExecutor]:
+    """Spin test nodes in a background executor that is always shut down and joined."""
+    spinner = BackgroundExecutor(ros_context)
+    try:
+        yield spinner
+    finally:
+        spinner.close()
+
+
+@dataclass
+class NodeProcess:
+    """A `cam_node` started as a real subprocess."""
+
+    process: subprocess.Popen
+    log_path: Path
+
+    def log(self) -> str:
+        """Return what the node printed so far."""
+        return self.log_path.read_text(errors='replace')
+
+    def stop(self, sig: int = signal.SIGINT) -> int:
+        """Send a signal and wait for the exit code."""
+        if self.process.poll() is None:
+            self.process.send_signal(sig)
+        try:
+            return self.process.wait(timeout=STOP_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+            raise AssertionError(f'cam_node ignored signal {sig}:\n{self.log()}')
+
+
+def wait_for_service(client: object, process: NodeProcess, timeout: float) -> None:
+    """Wait until a client sees its service, failing early if the node process died."""
+    deadline = time.monotonic() + timeout
+    while not client.wait_for_service(timeout_sec=0.1):
+        if process.process.poll() is not None:
+            raise AssertionError(f'cam_node exited with {process.process.returncode}:\n'
+                                 f'{process.log()}')
+        if time.monotonic() > deadline:
+            raise AssertionError(f'service {client.srv_name} not up in {timeout} s:\n'
+                                 f'{process.log()}')
+
+
+@pytest.fixture
+def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor):
+    """Start `cam_node` as a subprocess on a params file and wait for its evaluate service.
+
+    Returns a function ``start(params_file, *ros_args, name='cam') -> (NodeProcess, client)``;
+    every process it started is stopped at teardown.
+    """
+    from cam_ros_interfaces.srv import EvaluateCam
+
+    with ExitStack() as stack:
+        client_node = executor.node('test_client')
+
+        def start(params_file: Path | str = CONFIG_DIR / 'default.yaml', *ros_args: str,
+                  name: str = 'cam'):
+            log_path = tmp_path / f'{name}-{time.monotonic_ns()}.log'
+            log_file = stack.enter_context(open(log_path, 'wb'))
+            command = [sys.executable, '-m', 'cam_ros.node', '--ros-args', '-r', f'__node:={name}',
+                       '--params-file', str(params_file), *ros_args]
+            process = NodeProcess(
+                subprocess.Popen(command, stdout=log_file, stderr=subprocess.STDOUT, cwd=tmp_path),
+                log_path)
+            stack.callback(_reap, process)
+            client = client_node.create_client(EvaluateCam, f'/{name}/evaluate')
+            wait_for_service(client, process, SERVICE_TIMEOUT_S)
+            return process, client
+
+        yield start
+
+
+def _reap(process: NodeProcess) -> None:
+    """Make sure no node process outlives its test."""
+    if process.process.poll() is None:
+        process.process.kill()
+        process.process.wait()
