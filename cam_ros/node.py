@@ -201,12 +201,14 @@ class CamNode(Node):
         self._markers_pub.publish(self._markers(stamp))
 
     def _markers(self, stamp: Any) -> MarkerArray:
-        outline = self.design.outline(self.design.config.sample_count)
-        curves = (('cam_surface', outline.surface, (0.2, 0.4, 0.9)),
-                  ('pitch_curve', outline.pitch, (0.9, 0.5, 0.1)),
-                  ('base_circle', outline.base_circle, (0.5, 0.5, 0.5)))
+        shape = self.design.geometry(self.design.config.sample_count)
+        circle = self.design.follower.base_radius * np.stack(
+            (np.cos(shape.theta), np.sin(shape.theta)))
+        curves = (('cam_surface', shape.surface_x, shape.surface_y, (0.2, 0.4, 0.9)),
+                  ('pitch_curve', shape.pitch_x, shape.pitch_y, (0.9, 0.5, 0.1)),
+                  ('base_circle', circle[0], circle[1], (0.5, 0.5, 0.5)))
         markers = MarkerArray()
-        for index, (namespace, xy, rgb) in enumerate(curves):
+        for index, (namespace, x, y, rgb) in enumerate(curves):
             marker = Marker(ns=namespace, id=index, type=Marker.LINE_STRIP, action=Marker.ADD)
             marker.header.stamp = stamp
             marker.header.frame_id = CAM_FRAME
@@ -214,8 +216,8 @@ class CamNode(Node):
             marker.scale.x = 0.0005
             marker.color.r, marker.color.g, marker.color.b = rgb
             marker.color.a = 1.0
-            closed = np.vstack([xy, xy[:1]])
-            marker.points = [Point(x=x, y=y) for x, y in closed.tolist()]
+            marker.points = [Point(x=px, y=py) for px, py in zip(x.tolist(), y.tolist())]
+            marker.points.append(marker.points[0])
             markers.markers.append(marker)
         return markers
 
@@ -256,18 +258,18 @@ def main(args: Sequence[str] | None = None) -> int:
         params_file = default_config_path()
         argv += ['--ros-args', '--params-file', str(params_file)]
     rclpy.init(args=argv)
-    node = None
     try:
         node = CamNode(params_file)
-        rclpy.spin(node)
     except CamError as err:
         print(f'cam_node: invalid design in {params_file}: {err}', file=sys.stderr)
+        rclpy.try_shutdown()
         return 2
+    try:
+        rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        if node is not None:
-            node.destroy_node()
+        node.destroy_node()
         rclpy.try_shutdown()
     return 0
 

@@ -1,15 +1,16 @@
 """Base class of the normalised motion laws and the search for their characteristic values."""
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from functools import cached_property
-import math
 from typing import Callable, ClassVar, NamedTuple
 
-from cam_ros.core.errors import InvalidParameter
 import numpy as np
 import numpy.typing as npt
 from scipy.optimize import minimize_scalar
+
+from .errors import InvalidParameter
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -17,6 +18,8 @@ FloatArray = npt.NDArray[np.float64]
 PEAK_SAMPLES = 1025
 #: Bracket tolerance (in u) of the refinement of each sampled peak.
 PEAK_XATOL = 1e-13
+#: Sampled local maxima within this fraction of the largest sample are refined.
+PEAK_CANDIDATE_RTOL = 1e-2
 #: A jump of y, y' or y'' larger than this at an interior breakpoint makes the next peak infinite.
 INTERIOR_JUMP_TOLERANCE = 1e-9
 
@@ -31,6 +34,17 @@ class LawValues(NamedTuple):
 
 
 Derivatives = Callable[[FloatArray], LawValues]
+
+
+def finite_float(parameter: str, value: object) -> float:
+    """Return value as a finite float, or raise naming the parameter."""
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError) as err:
+        raise InvalidParameter(parameter, value, 'must be a finite number') from err
+    if not math.isfinite(number):
+        raise InvalidParameter(parameter, value, 'must be a finite number')
+    return number
 
 
 def full_like(u: FloatArray, value: float) -> FloatArray:
@@ -65,12 +79,12 @@ class MotionLaw(ABC):
         return ()
 
     def evaluate(self, u: npt.ArrayLike) -> LawValues:
-        """Return y and its first three derivatives at u in [0, 1] (arrays shaped like u)."""
+        """Return y and its first three derivatives at u in [0, 1] (float arrays shaped like u)."""
         x = np.asarray(u, dtype=float)
         inside = (x >= 0.0) & (x <= 1.0)
         if not np.all(inside):
             raise InvalidParameter('u', float(x[~inside].flat[0]), 'must lie in [0, 1]')
-        return self._derivatives(x)
+        return LawValues(*(np.asarray(values, dtype=float) for values in self._derivatives(x)))
 
     @cached_property
     def _characteristic_values(self) -> tuple[float, float, float]:
@@ -105,6 +119,21 @@ def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:
     high[-1] = 1.0
     return low[:, None] + (high - low)[:, None] * np.linspace(0.0, 1.0, samples)
 
+def _candidate_peaks(magnitude: FloatArray) -> list[tuple[int, int]]:
+    """
+    Return (piece, index) of the sampled local maxima of magnitude worth refining.
+
+    Strict local maxima along each row (and the global maximum, which may sit on a plateau)
+    within PEAK_CANDIDATE_RTOL of the largest sample: two lobes of nearly equal height are
+    both refined.
+    """
+    padded = np.pad(magnitude, ((0, 0), (1, 1)), constant_values=-np.inf)
+    middle = padded[:, 1:-1]
+    local = (middle > padded[:, :-2]) & (middle >= padded[:, 2:])
+    local &= middle >= (1.0 - PEAK_CANDIDATE_RTOL) * magnitude.max()
+    local.flat[np.argmax(magnitude)] = True
+    return [(int(piece), int(index)) for piece, index in zip(*np.nonzero(local))]
+
 
 def characteristic_values(derivatives: Derivatives,
                           breakpoints: tuple[float, ...]) -> tuple[float, float, float]:
@@ -119,11 +148,13 @@ def characteristic_values(derivatives: Derivatives,
             peaks.append(math.inf)
             continue
         magnitude = np.abs(values[order])
-        piece, index = np.unravel_index(np.argmax(magnitude), magnitude.shape)
-        row = grid[piece]
-        bounds = (row[max(index - 1, 0)], row[min(index + 1, row.size - 1)])
-        refined = minimize_scalar(
-            lambda x: -abs(float(derivatives(np.array(x))[order])),
-            bounds=bounds, method='bounded', options={'xatol': PEAK_XATOL})
-        peaks.append(max(float(magnitude[piece, index]), -float(refined.fun)))
+        best = float(magnitude.max())
+        for piece, index in _candidate_peaks(magnitude):
+            row = grid[piece]
+            refined = minimize_scalar(
+                lambda x: -abs(float(derivatives(np.array(x))[order])),
+                bounds=(row[max(index - 1, 0)], row[min(index + 1, row.size - 1)]),
+                method='bounded', options={'xatol': PEAK_XATOL})
+            best = max(best, -float(refined.fun))
+        peaks.append(best)
     return peaks[0], peaks[1], peaks[2]

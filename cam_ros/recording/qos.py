@@ -82,4 +82,6 @@ def load_qos(text: str) -> list[dict[str, Any]]:
         loaded = yaml.safe_load(text) if text else []
     except yaml.YAMLError:
         return []
-    return [entry for entry in loaded if isinstance(entry, dict)] if isinstance(loaded, list) else []
+    if not isinstance(loaded, list):
+        return []
+    return [entry for entry in loaded if isinstance(entry, dict)]

@@ -153,11 +153,13 @@ class Recorder:
         """
         specs = _validated_topics(topics)
         if compression not in COMPRESSIONS:
-            raise InvalidParameter('compression', compression, f'must be one of {list(COMPRESSIONS)}')
+            raise InvalidParameter('compression', compression,
+                                   f'must be one of {list(COMPRESSIONS)}')
         if chunk_size <= 0:
             raise InvalidParameter('chunk_size', chunk_size, 'must be a positive number of bytes')
         if flush_period is not None and not flush_period > 0:
-            raise InvalidParameter('flush_period', flush_period, 'must be positive seconds or None')
+            raise InvalidParameter('flush_period', flush_period,
+                                   'must be positive seconds or None')
         self.path = Path(path)
         self._node = node
         self._description = dict(description or {})
@@ -172,7 +174,8 @@ class Recorder:
         schemas = {name: message_definition(name) for name in dict.fromkeys(types)}
         self._topics = [
             {'name': name, 'type': type_, 'serialization_format': 'cdr',
-             'offered_qos_profiles': [qos_to_dict(spec.qos)], 'type_description_hash': type_hash(type_)}
+             'offered_qos_profiles': [qos_to_dict(spec.qos)],
+             'type_description_hash': type_hash(type_)}
             for name, type_, spec in zip(names, types, specs)]
         self._counts = [0] * len(specs)
         self._file, self._writer = self._open(specs, schemas, compression, chunk_size,
@@ -233,6 +236,9 @@ class Recorder:
         with self._lock:
             if self._writer is None:
                 return
+            self._counts[index] += 1
+            self._first_ns = log_time if self._first_ns is None else self._first_ns
+            self._last_ns = log_time
             try:
                 self._writer.add_message(
                     index + 1, log_time=log_time, data=data,
@@ -240,10 +246,6 @@ class Recorder:
                     sequence=(info.get('publication_sequence_number') or 0) & 0xFFFFFFFF)
             except OSError as exc:
                 self._fail(exc)
-                return
-            self._counts[index] += 1
-            self._first_ns = log_time if self._first_ns is None else self._first_ns
-            self._last_ns = log_time
 
     def _on_flush_timer(self) -> None:
         """Write out the open chunk (timer callback)."""
@@ -317,7 +319,7 @@ class Recorder:
 
     @property
     def message_count(self) -> int:
-        """Return the number of messages handed to the file so far."""
+        """Return the number of messages accepted for writing (the open chunk included)."""
         return sum(self._counts)
 
 

@@ -1,0 +1,129 @@
+"""Polynomial motion laws, including the general solve from boundary and via-point conditions."""
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import ClassVar, Sequence
+
+import numpy as np
+from numpy.polynomial import polynomial
+from scipy.special import perm
+
+from ._law_base import finite_float, FloatArray, LawValues, MotionLaw
+from .errors import InvalidParameter
+
+#: Largest |y(0)| and |y(1) - 1| accepted for a polynomial rise.
+END_TOLERANCE = 1e-9
+#: Largest condition number of the linear system accepted by `PolynomialLaw.from_conditions`.
+MAX_CONDITION_NUMBER = 1e12
+
+#: One condition of a polynomial law: (u, derivative order, value of that derivative at u).
+Condition = tuple[float, int, float]
+
+
+def _finite_floats(parameter: str, values: Sequence[float]) -> tuple[float, ...]:
+    """Return values as a non-empty tuple of finite floats, or raise naming the parameter."""
+    rule = 'must be a non-empty sequence of finite numbers'
+    try:
+        numbers = tuple(finite_float(parameter, value) for value in values)
+    except (InvalidParameter, TypeError) as err:
+        raise InvalidParameter(parameter, values, rule) from err
+    if not numbers:
+        raise InvalidParameter(parameter, values, rule)
+    return numbers
+
+
+@dataclass(frozen=True)
+class PolynomialLaw(MotionLaw):
+    """
+    Polynomial rise y(u) = sum_k coefficients[k] * u**k.
+
+    The coefficients must give y(0) = 0 and y(1) = 1 (within END_TOLERANCE).  Build one from
+    conditions on y, y', y'', ... at u = 0, u = 1 or interior via points with `from_conditions`.
+    """
+
+    name: ClassVar[str] = 'polynomial'
+    coefficients: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        """Check the coefficients once and store them as a tuple of floats."""
+        coefficients = _finite_floats('coefficients', self.coefficients)
+        object.__setattr__(self, 'coefficients', coefficients)
+        if abs(coefficients[0]) > END_TOLERANCE or abs(math.fsum(coefficients) - 1.0) > END_TOLERANCE:
+            raise InvalidParameter('coefficients', coefficients, 'must give y(0) = 0 and y(1) = 1')
+
+    @classmethod
+    def from_conditions(cls, conditions: Sequence[Condition],
+                        powers: Sequence[int] | None = None) -> 'PolynomialLaw':
+        """
+        Solve the coefficients from one condition (u, derivative order, value) per unknown.
+
+        The unknowns are the coefficients of u**p for p in `powers` (default 0, 1, ..., n - 1
+        for n conditions); every other coefficient is zero.  One linear solve.
+        """
+        rows = [_checked_condition(index, condition) for index, condition in enumerate(conditions)]
+        exponents = list(range(len(rows))) if powers is None else _checked_powers(powers)
+        if not rows or len(exponents) != len(rows):
+            raise InvalidParameter('conditions', conditions,
+                                   f'need exactly one condition per power {exponents}')
+        at, order, value = (np.array(column, dtype=float) for column in zip(*rows))
+        exponent = np.array(exponents, dtype=float)
+        ratio = perm(exponent[None, :], order[:, None])
+        power = np.maximum(exponent[None, :] - order[:, None], 0.0)
+        matrix = ratio * at[:, None] ** power
+        if np.linalg.cond(matrix) > MAX_CONDITION_NUMBER:
+            raise InvalidParameter('conditions', conditions, 'do not determine a unique polynomial')
+        coefficients = np.zeros(max(exponents) + 1)
+        coefficients[exponents] = np.linalg.solve(matrix, value)
+        return PolynomialLaw(tuple(coefficients))
+
+    @cached_property
+    def _derivative_coefficients(self) -> tuple[FloatArray, ...]:
+        coefficients = np.array(self.coefficients)
+        return tuple(polynomial.polyder(coefficients, order) for order in range(4))
+
+    def _derivatives(self, u: FloatArray) -> LawValues:
+        return LawValues(*(np.asarray(polynomial.polyval(u, coefficients), dtype=float)
+                           for coefficients in self._derivative_coefficients))
+
+
+def _checked_condition(index: int, condition: Condition) -> Condition:
+    """Return one condition as (u, order, value), or raise naming its index."""
+    parameter = f'conditions[{index}]'
+    try:
+        at, order, value = condition
+    except (TypeError, ValueError) as err:
+        raise InvalidParameter(parameter, condition, 'must be (u, derivative order, value)') from err
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
+        raise InvalidParameter(parameter, condition, 'derivative order must be an integer >= 0')
+    at, value = _finite_floats(parameter, (at, value))
+    if not 0.0 <= at <= 1.0:
+        raise InvalidParameter(parameter, condition, 'u must lie in [0, 1]')
+    return at, int(order), value
+
+
+def _checked_powers(powers: Sequence[int]) -> list[int]:
+    """Return the powers as distinct non-negative integers, or raise."""
+    exponents = list(powers)
+    if (not all(isinstance(p, (int, np.integer)) and not isinstance(p, bool) and p >= 0
+                for p in exponents) or len(set(exponents)) != len(exponents)):
+        raise InvalidParameter('powers', powers, 'must be distinct integers >= 0')
+    return [int(p) for p in exponents]
+
+
+@dataclass(frozen=True)
+class Polynomial345(PolynomialLaw):
+    """3-4-5 polynomial: y = 10u^3 - 15u^4 + 6u^5 (y, y', y'' fixed at both ends)."""
+
+    name: ClassVar[str] = 'polynomial_345'
+    coefficients: tuple[float, ...] = field(default=(0.0, 0.0, 0.0, 10.0, -15.0, 6.0),
+                                            init=False)
+
+
+@dataclass(frozen=True)
+class Polynomial4567(PolynomialLaw):
+    """4-5-6-7 polynomial: y = 35u^4 - 84u^5 + 70u^6 - 20u^7 (also y''' = 0 at both ends)."""
+
+    name: ClassVar[str] = 'polynomial_4567'
+    coefficients: tuple[float, ...] = field(
+        default=(0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0), init=False)

@@ -1,0 +1,236 @@
+"""Laws whose acceleration is piecewise a constant plus sinusoids: the SCCA family, via point."""
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import ClassVar, Sequence
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from ._law_base import finite_float, FloatArray, LawValues, MotionLaw
+from .errors import InvalidParameter
+
+#: Largest |b + c + d - 1| accepted for an SCCA law.
+FRACTION_SUM_TOLERANCE = 1e-9
+#: Samples per part in the via-point law's search for its smallest peak acceleration.
+VIA_SAMPLES = 513
+#: Tolerance (in y') of that search for the via-point velocity.
+VIA_VELOCITY_XATOL = 1e-12
+
+#: One term A*sin(omega*t + phase) of a piece's acceleration.
+Term = tuple[float, float, float]
+#: One piece: (length in u, constant acceleration, sinusoid terms).
+Piece = tuple[float, float, Sequence[Term]]
+
+
+@dataclass(frozen=True, eq=False)
+class AccelerationPieces:
+    """
+    Piecewise acceleration y'' = const + sum(amplitude * sin(omega * t + phase)), t local.
+
+    Integrated twice from y(0) = y'(0) = 0 with y and y' continuous at every edge; y'' is
+    continuous where the caller's pieces make it so.  Arrays: edges (n + 1), const (n),
+    amplitude/omega/phase (n, terms), start_position/start_velocity (n).
+    """
+
+    edges: FloatArray
+    const: FloatArray
+    amplitude: FloatArray
+    omega: FloatArray
+    phase: FloatArray
+    start_position: FloatArray
+    start_velocity: FloatArray
+
+    @classmethod
+    def build(cls, pieces: Sequence[Piece]) -> 'AccelerationPieces':
+        """Chain the pieces (zero-length pieces must be left out by the caller)."""
+        width = max(1, max(len(terms) for _, _, terms in pieces))
+        padded = [list(terms) + [(0.0, 1.0, 0.0)] * (width - len(terms)) for _, _, terms in pieces]
+        amplitude, omega, phase = np.moveaxis(np.array(padded, dtype=float), 2, 0)
+        lengths = np.array([length for length, _, _ in pieces], dtype=float)
+        const = np.array([value for _, value, _ in pieces], dtype=float)
+        zero = np.zeros_like(lengths)
+        rise = _local_values(lengths, zero, zero, const, amplitude, omega, phase)
+        velocity = np.concatenate(([0.0], np.cumsum(rise.y1)[:-1]))
+        position = np.concatenate(([0.0], np.cumsum(rise.y + velocity * lengths)[:-1]))
+        edges = np.concatenate(([0.0], np.cumsum(lengths)))
+        return cls(edges, const, amplitude, omega, phase, position, velocity)
+
+    def scaled(self, factor: float) -> 'AccelerationPieces':
+        """Return the pieces with every acceleration (hence y and y') multiplied by factor."""
+        return AccelerationPieces(self.edges, self.const * factor, self.amplitude * factor,
+                                  self.omega, self.phase, self.start_position * factor,
+                                  self.start_velocity * factor)
+
+    def evaluate(self, u: FloatArray) -> LawValues:
+        """Return y, y', y'', y''' at u (a point on an edge belongs to the piece it starts)."""
+        index = np.searchsorted(self.edges[1:-1], u, side='right')
+        return _local_values(u - self.edges[index], self.start_position[index],
+                             self.start_velocity[index], self.const[index],
+                             self.amplitude[index], self.omega[index], self.phase[index])
+
+
+def _local_values(t: FloatArray, position: FloatArray, velocity: FloatArray, const: FloatArray,
+                  amplitude: FloatArray, omega: FloatArray, phase: FloatArray) -> LawValues:
+    """Integrate y'' = const + sum(A sin(w t + phase)) from y(0) = position, y'(0) = velocity."""
+    t_k = t[..., None]
+    angle = omega * t_k + phase
+    sin, cos = np.sin(angle), np.cos(angle)
+    ratio = amplitude / omega
+    y3 = np.sum(amplitude * omega * cos, axis=-1)
+    y2 = const + np.sum(amplitude * sin, axis=-1)
+    y1 = velocity + const * t + np.sum(ratio * (np.cos(phase) - cos), axis=-1)
+    y = (position + velocity * t + 0.5 * const * t * t
+         + np.sum(ratio * (t_k * np.cos(phase) - (sin - np.sin(phase)) / omega), axis=-1))
+    return LawValues(y, y1, y2, y3)
+
+
+@dataclass(frozen=True)
+class SccaLaw(MotionLaw):
+    """
+    Sine-constant-cosine acceleration family with fractions b + c + d = 1 of the rise.
+
+    Acceleration over u: a quarter sine up to +Ca on [0, b/2], constant +Ca for c/2, a half
+    cosine from +Ca to -Ca over d, constant -Ca for c/2, a quarter sine back to 0 on
+    [1 - b/2, 1].  Ca normalises y(1) = 1.  Special cases: (0, 1, 0) constant acceleration,
+    (0, 0, 1) simple harmonic, (1/2, 0, 1/2) cycloidal, (1/4, 1/2, 1/4) modified trapezoid,
+    (1/4, 0, 3/4) modified sine.
+    """
+
+    name: ClassVar[str] = 'scca'
+    b: float
+    c: float
+    d: float
+
+    def __post_init__(self) -> None:
+        """Check the fractions once."""
+        for name in ('b', 'c', 'd'):
+            value = finite_float(name, getattr(self, name))
+            if not 0.0 <= value <= 1.0:
+                raise InvalidParameter(name, value, 'must be a fraction in [0, 1]')
+            object.__setattr__(self, name, value)
+        total = self.b + self.c + self.d
+        if abs(total - 1.0) > FRACTION_SUM_TOLERANCE:
+            raise InvalidParameter('b + c + d', total, 'the fractions must add up to 1')
+
+    @cached_property
+    def _pieces(self) -> AccelerationPieces:
+        total = self.b + self.c + self.d
+        b, c, d = self.b / total, self.c / total, self.d / total
+        half_pi = 0.5 * math.pi
+        zones: list[Piece] = [
+            (0.5 * b, 0.0, [(1.0, math.pi / b if b else 1.0, 0.0)]),
+            (0.5 * c, 1.0, []),
+            (d, 0.0, [(1.0, math.pi / d if d else 1.0, half_pi)]),
+            (0.5 * c, -1.0, []),
+            (0.5 * b, 0.0, [(1.0, math.pi / b if b else 1.0, -half_pi)]),
+        ]
+        unit = AccelerationPieces.build([zone for zone in zones if zone[0] > 0.0])
+        return unit.scaled(1.0 / float(unit.evaluate(np.array(1.0)).y))
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Interior edges of the non-empty zones."""
+        return tuple(float(edge) for edge in self._pieces.edges[1:-1])
+
+    def _derivatives(self, u: FloatArray) -> LawValues:
+        return self._pieces.evaluate(u)
+
+
+@dataclass(frozen=True)
+class ModifiedTrapezoid(SccaLaw):
+    """Modified trapezoid: SCCA with b = 1/4, c = 1/2, d = 1/4."""
+
+    name: ClassVar[str] = 'modified_trapezoid'
+    b: float = field(default=0.25, init=False)
+    c: float = field(default=0.5, init=False)
+    d: float = field(default=0.25, init=False)
+
+
+@dataclass(frozen=True)
+class ModifiedSine(SccaLaw):
+    """Modified sine: SCCA with b = 1/4, c = 0, d = 3/4."""
+
+    name: ClassVar[str] = 'modified_sine'
+    b: float = field(default=0.25, init=False)
+    c: float = field(default=0.0, init=False)
+    d: float = field(default=0.75, init=False)
+
+
+def _part_amplitudes(length: float, height: float, velocity: float) -> tuple[float, float]:
+    """Return (a, b) of y'' = a sin(pi t/L) + b sin(2 pi t/L) rising height from rest to velocity."""
+    return (0.5 * math.pi * velocity / length,
+            2.0 * math.pi * (height - 0.5 * velocity * length) / length ** 2)
+
+
+@dataclass(frozen=True)
+class ViaPointLaw(MotionLaw):
+    """
+    Rise from rest to rest through (u_via, y_via) without stopping there (after seed 002).
+
+    Two parts meet at the via point with zero acceleration and velocity V > 0; on each part
+    (length L1 = u_via, then L2 = 1 - u_via, local t) the acceleration is a half-sine lobe
+    plus a full-sine lobe, both zero at the part's ends, so y'' is continuous and vanishes at
+    u = 0, u_via and 1:
+        [0, u_via]:  y'' =  a1 sin(pi t / L1) + b1 sin(2 pi t / L1)
+        [u_via, 1]:  y'' = -a2 sin(pi t / L2) + b2 sin(2 pi t / L2)
+    Unknowns a1, b1, a2, b2, V; conditions y(0) = y'(0) = 0 (by integration), y'(u_via) = V,
+    y(u_via) = y_via, y'(1) = 0, y(1) = 1 fix the amplitudes linearly for any V:
+        a1 = pi V / (2 L1), b1 = 2 pi (y_via - V L1 / 2) / L1**2, likewise a2, b2 with 1 - y_via.
+    On a part y' = (L/pi)(1 - cos x)(a + b (1 + cos x)), x = pi t / L, which is > 0 inside iff
+    0 < V <= (8/3) min(y_via / L1, (1 - y_via) / L2): every via point strictly inside the unit
+    square is reachable, any other raises.  V is then the minimiser of the peak |y''|, found
+    with scipy.optimize.minimize_scalar; that peak is a maximum of |affine functions of V|,
+    hence convex in V, so the minimiser is unique in practice and the law is well defined.
+    The jerk y''' jumps at u = 0, u_via and 1 (like the cycloidal law's at its ends).
+    """
+
+    name: ClassVar[str] = 'via_point'
+    u_via: float
+    y_via: float
+
+    def __post_init__(self) -> None:
+        """Check that the via point lies strictly inside the unit square."""
+        for name in ('u_via', 'y_via'):
+            value = finite_float(name, getattr(self, name))
+            if not 0.0 < value < 1.0:
+                raise InvalidParameter(
+                    name, value, 'must lie strictly between 0 and 1 (else the rise stops there)')
+            object.__setattr__(self, name, value)
+
+    @cached_property
+    def velocity(self) -> float:
+        """Normalised velocity y' at the via point (minimises the peak |y''|)."""
+        first, second = self.u_via, 1.0 - self.u_via
+        x = np.linspace(0.0, 1.0, VIA_SAMPLES)
+        shapes = np.stack((np.sin(math.pi * x), np.sin(2.0 * math.pi * x)))
+
+        def peak_acceleration(velocity: float) -> float:
+            a1, b1 = _part_amplitudes(first, self.y_via, velocity)
+            a2, b2 = _part_amplitudes(second, 1.0 - self.y_via, velocity)
+            return float(max(np.max(np.abs(np.array([a1, b1]) @ shapes)),
+                             np.max(np.abs(np.array([-a2, b2]) @ shapes))))
+
+        limit = 8.0 / 3.0 * min(self.y_via / first, (1.0 - self.y_via) / second)
+        found = minimize_scalar(peak_acceleration, bounds=(0.0, limit), method='bounded',
+                                options={'xatol': VIA_VELOCITY_XATOL})
+        return float(found.x)
+
+    @cached_property
+    def _pieces(self) -> AccelerationPieces:
+        first, second = self.u_via, 1.0 - self.u_via
+        a1, b1 = _part_amplitudes(first, self.y_via, self.velocity)
+        a2, b2 = _part_amplitudes(second, 1.0 - self.y_via, self.velocity)
+        return AccelerationPieces.build([
+            (first, 0.0, [(a1, math.pi / first, 0.0), (b1, 2.0 * math.pi / first, 0.0)]),
+            (second, 0.0, [(-a2, math.pi / second, 0.0), (b2, 2.0 * math.pi / second, 0.0)]),
+        ])
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """The via point, where the two parts meet."""
+        return (float(self.u_via),)
+
+    def _derivatives(self, u: FloatArray) -> LawValues:
+        return self._pieces.evaluate(u)

@@ -1,0 +1,68 @@
+"""Constants, reference messages and helpers shared by the recording tests."""
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+import time
+
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+#: Seconds any graph event (discovery, delivery) may take before a test fails.
+GRAPH_TIMEOUT = 5.0
+#: Seconds between stream messages of the reference recording (50 Hz).
+STREAM_PERIOD = 0.02
+STREAM_COUNT = 30
+JOINTS = ['cam', 'follower']
+STREAM_TOPIC = '/joint_states'
+LATCHED_TOPIC = '/cam_trajectory'
+PARAMETER_TOPIC = '/parameter_events'
+STREAM_QOS = QoSProfile(depth=10)
+LATCHED_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                         reliability=ReliabilityPolicy.RELIABLE)
+CONFIG_TEXT = 'law: cycloidal\nlift_m: 0.02  # metres\n'
+
+
+def wait_until(predicate: Callable[[], bool], timeout: float = GRAPH_TIMEOUT) -> bool:
+    """Poll `predicate` until it holds or `timeout` seconds pass; return its last value."""
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            return predicate()
+        time.sleep(0.005)
+    return True
+
+
+def joint_state(index: int) -> JointState:
+    """Return the index-th message of the reference stream (distinct, exactly representable)."""
+    message = JointState(name=JOINTS, position=[index * 0.25, -index * 0.5],
+                         velocity=[float(index), 2.0], effort=[])
+    message.header.frame_id = 'cam_frame'
+    message.header.stamp.sec = 1000 + index
+    message.header.stamp.nanosec = 125 * index
+    return message
+
+
+def trajectory() -> JointTrajectory:
+    """Return the latched reference trajectory."""
+    message = JointTrajectory(joint_names=['cam'])
+    message.header.frame_id = 'cam_frame'
+    message.points = [
+        JointTrajectoryPoint(positions=[0.001 * k], velocities=[0.5], accelerations=[-0.25])
+        for k in range(4)]
+    for k, point in enumerate(message.points):
+        point.time_from_start.nanosec = 250_000_000 * k
+    return message
+
+
+@dataclass(frozen=True)
+class ReferenceRecording:
+    """The file recorded from a known publisher, with what the graph said during recording."""
+
+    path: Path
+    stream: list[JointState]
+    trajectory: JointTrajectory
+    graph_hashes: dict[str, str]
+    opened_ns: int
+    parameter_name: str
