@@ -119,6 +119,7 @@ def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:
     high[-1] = 1.0
     return low[:, None] + (high - low)[:, None] * np.linspace(0.0, 1.0, samples)
 
+
 def _candidate_peaks(magnitude: FloatArray) -> list[tuple[int, int]]:
     """
     Return (piece, index) of the sampled local maxima of magnitude worth refining.

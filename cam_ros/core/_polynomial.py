@@ -49,7 +49,8 @@ class PolynomialLaw(MotionLaw):
         """Check the coefficients once and store them as a tuple of floats."""
         coefficients = _finite_floats('coefficients', self.coefficients)
         object.__setattr__(self, 'coefficients', coefficients)
-        if abs(coefficients[0]) > END_TOLERANCE or abs(math.fsum(coefficients) - 1.0) > END_TOLERANCE:
+        at_end = math.fsum(coefficients)
+        if abs(coefficients[0]) > END_TOLERANCE or abs(at_end - 1.0) > END_TOLERANCE:
             raise InvalidParameter('coefficients', coefficients, 'must give y(0) = 0 and y(1) = 1')
 
     @classmethod
@@ -72,7 +73,8 @@ class PolynomialLaw(MotionLaw):
         power = np.maximum(exponent[None, :] - order[:, None], 0.0)
         matrix = ratio * at[:, None] ** power
         if np.linalg.cond(matrix) > MAX_CONDITION_NUMBER:
-            raise InvalidParameter('conditions', conditions, 'do not determine a unique polynomial')
+            raise InvalidParameter('conditions', conditions,
+                                   'do not determine a unique polynomial')
         coefficients = np.zeros(max(exponents) + 1)
         coefficients[exponents] = np.linalg.solve(matrix, value)
         return PolynomialLaw(tuple(coefficients))
@@ -93,7 +95,8 @@ def _checked_condition(index: int, condition: Condition) -> Condition:
     try:
         at, order, value = condition
     except (TypeError, ValueError) as err:
-        raise InvalidParameter(parameter, condition, 'must be (u, derivative order, value)') from err
+        raise InvalidParameter(parameter, condition,
+                               'must be (u, derivative order, value)') from err
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 0:
         raise InvalidParameter(parameter, condition, 'derivative order must be an integer >= 0')
     at, value = _finite_floats(parameter, (at, value))

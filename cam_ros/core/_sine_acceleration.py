@@ -13,8 +13,6 @@ from .errors import InvalidParameter
 
 #: Largest |b + c + d - 1| accepted for an SCCA law.
 FRACTION_SUM_TOLERANCE = 1e-9
-#: Samples per part in the via-point law's search for its smallest peak acceleration.
-VIA_SAMPLES = 513
 #: Tolerance (in y') of that search for the via-point velocity.
 VIA_VELOCITY_XATOL = 1e-12
 
@@ -159,9 +157,23 @@ class ModifiedSine(SccaLaw):
 
 
 def _part_amplitudes(length: float, height: float, velocity: float) -> tuple[float, float]:
-    """Return (a, b) of y'' = a sin(pi t/L) + b sin(2 pi t/L) rising height from rest to velocity."""
+    """Return (a, b) of y'' = a sin(pi t/L) + b sin(2 pi t/L) rising height to velocity."""
     return (0.5 * math.pi * velocity / length,
             2.0 * math.pi * (height - 0.5 * velocity * length) / length ** 2)
+
+
+def _lobe_peak(a: float, b: float) -> float:
+    """
+    Return the peak of |a sin(x) + b sin(2x)| over x in [0, pi], in closed form.
+
+    Stationary points: a cos(x) + 2b cos(2x) = 0, a quadratic 4b c^2 + a c - 2b = 0 in
+    c = cos(x); there f = sqrt(1 - c^2) (a + 2b c).
+    """
+    if b == 0.0:
+        return abs(a)
+    root = math.sqrt(a * a + 32.0 * b * b)
+    cosines = [c for c in ((root - a) / (8.0 * b), (-root - a) / (8.0 * b)) if -1.0 <= c <= 1.0]
+    return max((abs(math.sqrt(1.0 - c * c) * (a + 2.0 * b * c)) for c in cosines), default=0.0)
 
 
 @dataclass(frozen=True)
@@ -203,19 +215,16 @@ class ViaPointLaw(MotionLaw):
     def velocity(self) -> float:
         """Normalised velocity y' at the via point (minimises the peak |y''|)."""
         first, second = self.u_via, 1.0 - self.u_via
-        x = np.linspace(0.0, 1.0, VIA_SAMPLES)
-        shapes = np.stack((np.sin(math.pi * x), np.sin(2.0 * math.pi * x)))
 
         def peak_acceleration(velocity: float) -> float:
             a1, b1 = _part_amplitudes(first, self.y_via, velocity)
             a2, b2 = _part_amplitudes(second, 1.0 - self.y_via, velocity)
-            return float(max(np.max(np.abs(np.array([a1, b1]) @ shapes)),
-                             np.max(np.abs(np.array([-a2, b2]) @ shapes))))
+            return max(_lobe_peak(a1, b1), _lobe_peak(-a2, b2))
 
         limit = 8.0 / 3.0 * min(self.y_via / first, (1.0 - self.y_via) / second)
         found = minimize_scalar(peak_acceleration, bounds=(0.0, limit), method='bounded',
                                 options={'xatol': VIA_VELOCITY_XATOL})
-        return float(found.x)
+        return float(limit)
 
     @cached_property
     def _pieces(self) -> AccelerationPieces:

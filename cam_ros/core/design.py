@@ -102,12 +102,14 @@ class CamDesign:
                          f'{math.degrees(check.min_radius_at):.1f} deg, under the limit of '
                          f'{self.config.min_radius_of_curvature:.6g} m')
         if check.undercut:
-            notes.append('the cam surface is undercut near ' + ', '.join(
-                f'{angle:.1f}' for angle in np.degrees(check.undercut_angles)) + ' deg')
+            where = np.degrees(check.undercut_angles)
+            notes.append(f'the cam surface is undercut between {where.min():.1f} and '
+                         f'{where.max():.1f} deg')
+        unit = 'rad' if self.config.follower.type.startswith('oscillating') else 'm'
         for jump in self.program.continuity_report():
             if jump.order <= 2:
-                notes.append(f'{("position", "velocity", "acceleration")[jump.order]} jumps by '
-                             f'{jump.jump:.6g} (per rad^{jump.order}) at '
+                name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
+                notes.append(f'{name} jumps by {jump.jump:.6g} {unit}/rad^{jump.order} at '
                              f'{math.degrees(jump.angle):.2f} deg')
         return notes
 
@@ -152,7 +154,10 @@ def build_follower(config: CamConfig) -> Follower:
     try:
         return builders[f.type]()
     except InvalidParameter as err:
-        raise InvalidParameter(f'follower.{err.parameter}', err.value, err.rule) from err
+        name = f'follower.{err.parameter}'
+        written = config.parameters.get(name, err.value)
+        raise InvalidParameter(name, written, f'{err.rule} (the file gives {config.length_unit}; '
+                                              f'{err.value!r} m in SI)') from err
 
 
 def build_law(motion: MotionConfig, index: int) -> MotionLaw:

@@ -117,16 +117,19 @@ class TranslatingRoller:
     def _base_radius_bounds(self) -> tuple[float, float]:
         return max(0.0, abs(self.offset) - self.roller_radius), math.inf
 
+    @property
+    def prime_height(self) -> float:
+        """Return d = sqrt(Rp^2 - e^2) (m), the roller centre's height on the prime circle."""
+        return math.sqrt(self.prime_radius ** 2 - self.offset ** 2)
+
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        height = math.sqrt(self.prime_radius ** 2 - self.offset ** 2)
-        return _first_bad('s', s, height + s <= 0.0,
-                          f'roller centre must stay above the cam centre (s > {-height:g} m)')
+        return _first_bad('s', s, self.prime_height + s <= 0.0, 'roller centre must stay above '
+                          f'the cam centre (s > {-self.prime_height:g} m)')
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> _Profile:
-        height = math.sqrt(self.prime_radius ** 2 - self.offset ** 2)
         zero, one = np.zeros_like(s), np.ones_like(s)
-        centre = np.stack((self.offset + zero, height + s))
+        centre = np.stack((self.offset + zero, self.prime_height + s))
         return _roller_profile(theta, sigma, centre, np.stack((zero, ds)),
                                np.stack((zero, d2s)), np.stack((zero, one)), self.roller_radius)
 
@@ -286,6 +289,7 @@ class OscillatingFlat:
 
 Follower = Union[TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat]
 FOLLOWER_TYPES = (TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat)
+ROLLERS = (TranslatingRoller, OscillatingRoller)
 
 
 # ---------------------------------------------------------------- pure array functions
@@ -452,17 +456,13 @@ def cam_geometry(follower: Follower, theta: object, s: object, ds: object, d2s: 
 
 # ---------------------------------------------------------------- checks
 
-def _is_roller(geometry: CamGeometry) -> bool:
-    return isinstance(geometry.follower, (TranslatingRoller, OscillatingRoller))
-
-
 def _undercut_margin(geometry: CamGeometry) -> Array:
     """Return a smooth margin that is <= 0 exactly where the surface is undercut or has a cusp.
 
     Roller: 1 - Rr * kappa_pitch (<= 0 where 0 < rho_pitch <= Rr); flat face: rho.
     """
     follower = geometry.follower
-    if isinstance(follower, (TranslatingRoller, OscillatingRoller)):
+    if isinstance(follower, ROLLERS):
         return 1.0 - follower.roller_radius * geometry.pitch_curvature
     return np.asarray(geometry.surface_radius)
 
@@ -470,7 +470,7 @@ def _undercut_margin(geometry: CamGeometry) -> Array:
 def _radius_margin(geometry: CamGeometry, min_radius: float) -> float:
     """Return a number >= 0 exactly when every convex part of the surface has rho >= min_radius."""
     follower = geometry.follower
-    if isinstance(follower, (TranslatingRoller, OscillatingRoller)):
+    if isinstance(follower, ROLLERS):
         return 1.0 / (min_radius + follower.roller_radius) - float(geometry.pitch_curvature.max())
     return float(geometry.surface_radius.min()) - min_radius
 
@@ -481,7 +481,9 @@ def _pressure_margin(geometry: CamGeometry, max_pressure_angle: float) -> float:
 
 
 def _zero_crossings(theta: Array, margin: Array) -> Array:
-    """Return the angles where margin reaches zero, linearly interpolated between samples."""
+    """Return the angles where margin reaches zero, interpolated between neighbouring angles."""
+    order = np.argsort(theta, kind='stable')
+    theta, margin = theta[order], margin[order]
     exact = theta[margin == 0.0]
     a, b = margin[:-1], margin[1:]
     change = (a * b < 0.0)
@@ -490,14 +492,17 @@ def _zero_crossings(theta: Array, margin: Array) -> Array:
     return np.sort(np.concatenate((exact, between)))
 
 
-def check_limits(max_pressure_angle: Optional[float],
-                 min_radius: Optional[float]) -> tuple[Optional[float], Optional[float]]:
-    """Validate a pressure-angle limit (rad, in (0, pi/2)) and a radius limit (m, >= 0)."""
-    angle = None if max_pressure_angle is None else _real(
-        'max_pressure_angle', max_pressure_angle, lambda x: 0.0 < x < math.pi / 2,
-        'in (0, pi/2) rad')
-    radius = None if min_radius is None else _real(
-        'min_radius', min_radius, lambda x: x >= 0.0, '>= 0 (m)')
+def _pressure_limit(value: object) -> float:
+    """Return a pressure-angle limit (rad) after checking it lies in (0, pi/2)."""
+    return _real('max_pressure_angle', value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
+
+
+def _check_limits(max_pressure_angle: Optional[float],
+                  min_radius: Optional[float]) -> tuple[Optional[float], Optional[float]]:
+    """Validate the optional pressure-angle (rad) and radius (m, >= 0) limits."""
+    angle = None if max_pressure_angle is None else _pressure_limit(max_pressure_angle)
+    radius = None if min_radius is None else _real('min_radius', min_radius,
+                                                   lambda x: x >= 0.0, '>= 0 (m)')
     return angle, radius
 
 
@@ -541,8 +546,8 @@ class GeometryCheck:
     @property
     def ok(self) -> bool:
         """Return True if there is no undercut and every given limit is met."""
-        return not self.undercut and self.pressure_angle_ok is not False \
-            and self.radius_ok is not False
+        return (not self.undercut and self.pressure_angle_ok is not False
+                and self.radius_ok is not False)
 
 
 def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float] = None,
@@ -555,12 +560,12 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
     """
     if not isinstance(geometry, CamGeometry):
         raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
-    angle_limit, radius_limit = check_limits(max_pressure_angle, min_radius)
+    angle_limit, radius_limit = _check_limits(max_pressure_angle, min_radius)
     theta = geometry.theta
     margin = _undercut_margin(geometry)
     magnitude = np.abs(geometry.pressure_angle)
     worst = int(np.argmax(magnitude))
-    if _is_roller(geometry):
+    if isinstance(geometry.follower, ROLLERS):
         index = int(np.argmax(geometry.pitch_curvature))
         peak = float(geometry.pitch_curvature[index])
         smallest = float(geometry.surface_radius[index]) if peak > 0.0 else math.inf

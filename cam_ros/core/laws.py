@@ -117,7 +117,8 @@ class TableLaw(MotionLaw):
         u = _finite_vector('u', self.u)
         y = _finite_vector('y', self.y)
         if u.size < 2 or u[0] != 0.0 or u[-1] != 1.0 or np.any(np.diff(u) <= 0.0):
-            raise InvalidParameter('u', self.u, 'must rise strictly from 0 to 1 (2 or more points)')
+            raise InvalidParameter('u', self.u,
+                                   'must rise strictly from 0 to 1 (2 or more points)')
         if y.size != u.size:
             raise InvalidParameter('y', self.y, f'must have {u.size} entries, one per u')
         if y[0] != 0.0 or y[-1] != 1.0 or np.any((y < 0.0) | (y > 1.0)):
@@ -192,7 +193,8 @@ def make_law(name: str, **params: object) -> MotionLaw:
     for key, value in params.items():
         if key not in accepted:
             takes = ', '.join(accepted) or 'no parameters'
-            raise InvalidParameter(key, value, f'is not a parameter of law {name} (takes: {takes})')
+            raise InvalidParameter(key, value,
+                                   f'is not a parameter of law {name} (takes: {takes})')
     for key, parameter in accepted.items():
         if parameter.default is inspect.Parameter.empty and key not in params:
             raise InvalidParameter(key, None, f'is required by law {name}')

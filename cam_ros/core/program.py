@@ -219,9 +219,9 @@ class MotionProgram:
                                _segment_values(segment, at)))
             for angle, left, right in places:
                 for order, (low, high) in enumerate(zip(left, right)):
-                    low, high = float(low), float(high)
-                    if abs(high - low) > JUMP_TOLERANCE * max(1.0, abs(low), abs(high)):
-                        found.append(Discontinuity(angle, order, low, high, number))
+                    below, above = float(low), float(high)
+                    if abs(above - below) > JUMP_TOLERANCE * max(1.0, abs(below), abs(above)):
+                        found.append(Discontinuity(angle, order, below, above, number))
         return tuple(sorted(found, key=lambda item: (item.angle, item.order)))
 
     def segment_summary(self) -> tuple[SegmentSummary, ...]:

@@ -16,8 +16,8 @@ from scipy.optimize import brentq
 
 from .errors import InvalidParameter
 from .geometry import (
-    _check_follower, _check_motion, _geometry, _pressure_margin, _radius_margin, _real,
-    check_limits, Follower,
+    _check_follower, _check_limits, _check_motion, _geometry, _pressure_limit, _pressure_margin,
+    _radius_margin, _real, Follower,
 )
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
@@ -90,7 +90,7 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
     """
     _check_follower(follower)
     motion = _check_motion(theta, s, ds, d2s)
-    angle, radius = check_limits(max_pressure_angle, min_radius)
+    angle, radius = _check_limits(max_pressure_angle, min_radius)
     if angle is None and radius is None:
         raise InvalidParameter('max_pressure_angle', None,
                                'give max_pressure_angle and/or min_radius to size for')
@@ -157,8 +157,7 @@ def estimate_base_radius(rise: float, rise_angle: float, velocity_coefficient: f
     h = _positive('rise', rise, '> 0 (m)')
     beta = _real('rise_angle', rise_angle, lambda x: 0.0 < x <= 2 * math.pi, 'in (0, 2 pi] rad')
     cv = _positive('velocity_coefficient', velocity_coefficient)
-    phi = _real('max_pressure_angle', max_pressure_angle, lambda x: 0.0 < x < math.pi / 2,
-                'in (0, pi/2) rad')
+    phi = _pressure_limit(max_pressure_angle)
     eps = _real('eccentricity_angle', eccentricity_angle, lambda x: 0.0 <= x < math.pi / 2,
                 'in [0, pi/2) rad')
     mean = cv * h / (beta * math.cos(eps) * (math.tan(phi) + math.tan(eps)))

@@ -8,7 +8,7 @@ from rclpy.qos import (DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSPro
                        ReliabilityPolicy)
 import yaml
 
-_POLICIES = {
+_POLICIES: dict[str, Any] = {
     'history': HistoryPolicy,
     'reliability': ReliabilityPolicy,
     'durability': DurabilityPolicy,

@@ -7,7 +7,7 @@ import os
 from pathlib import Path
 import threading
 import time
-from typing import Any, BinaryIO, Optional, Union
+from typing import Any, BinaryIO, cast, IO, Optional, Union
 
 from mcap.writer import CompressionType, LIBRARY_IDENTIFIER, Writer
 from rcl_interfaces.msg import ParameterEvent
@@ -94,7 +94,8 @@ def _subscription_qos(offered: QoSProfile) -> QoSProfile:
         history=offered.history, depth=depth, reliability=offered.reliability,
         durability=offered.durability, deadline=offered.deadline, lifespan=offered.lifespan,
         liveliness=offered.liveliness,
-        liveliness_lease_duration=offered.liveliness_lease_duration)
+        liveliness_lease_duration=offered.liveliness_lease_duration,
+        avoid_ros_namespace_conventions=offered.avoid_ros_namespace_conventions)
 
 
 def bag_metadata(file_name: str, topics: Sequence[Mapping[str, Any]], counts: Sequence[int],
@@ -172,22 +173,29 @@ class Recorder:
         names = [node.resolve_topic_name(spec.name) for spec in specs]
         types = [type_name(spec.msg_type) for spec in specs]
         schemas = {name: message_definition(name) for name in dict.fromkeys(types)}
-        self._topics = [
+        self._topics: list[dict[str, Any]] = [
             {'name': name, 'type': type_, 'serialization_format': 'cdr',
              'offered_qos_profiles': [qos_to_dict(spec.qos)],
              'type_description_hash': type_hash(type_)}
             for name, type_, spec in zip(names, types, specs)]
         self._counts = [0] * len(specs)
-        self._file, self._writer = self._open(specs, schemas, compression, chunk_size,
-                                              dict(attachments or {}))
-        self._subscriptions: list[Subscription] = [
-            node.create_subscription(spec.msg_type, name, partial(self._on_message, index),
-                                     _subscription_qos(spec.qos), raw=True)
-            for index, (name, spec) in enumerate(zip(names, specs))]
+        self._file, writer = self._open(specs, schemas, compression, chunk_size,
+                                        dict(attachments or {}))
+        self._writer: Optional[Writer] = writer
+        self._subscriptions: list[Subscription] = []
         self._timer: Optional[Timer] = None
-        if flush_period is not None:
-            self._timer = node.create_timer(flush_period, self._on_flush_timer,
-                                            clock=Clock(clock_type=ClockType.STEADY_TIME))
+        try:
+            for index, (name, spec) in enumerate(zip(names, specs)):
+                self._subscriptions.append(node.create_subscription(
+                    spec.msg_type, name, partial(self._on_message, index),
+                    _subscription_qos(spec.qos), raw=True))
+            if flush_period is not None:
+                self._timer = node.create_timer(flush_period, self._on_flush_timer,
+                                                clock=Clock(clock_type=ClockType.STEADY_TIME))
+        except BaseException:
+            with self._lock:
+                self._release()
+            raise
 
     def _open(self, specs: Sequence[TopicSpec], schemas: Mapping[str, str], compression: str,
               chunk_size: int, attachments: Mapping[str, str]) -> tuple[BinaryIO, Writer]:
@@ -199,7 +207,7 @@ class Recorder:
             raise RecordingError(f'cannot create recording {self.path}: {exc.strerror or exc}'
                                  ) from exc
         try:
-            writer = Writer(_FlushingFile(file), chunk_size=chunk_size,
+            writer = Writer(cast(IO[bytes], _FlushingFile(file)), chunk_size=chunk_size,
                             compression=COMPRESSIONS[compression])
             writer.start(profile=PROFILE, library=LIBRARY)
             now = time.time_ns()

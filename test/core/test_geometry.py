@@ -19,7 +19,7 @@ import pytest
 FINE = 20001  # samples per turn for finite-difference references
 CURVATURE_RTOL = 1e-5  # finite-difference curvature error / largest |curvature|
 ANGLE_TOL = 1e-5  # rad, finite-difference pressure angle
-CIRCLE_RTOL = 1e-4  # three-point circle radius (step 0.01 rad) vs exact radius
+CIRCLE_RTOL = 1e-4  # three-point circle radius (step 0.002 rad) vs exact radius
 EXACT = 1e-12  # identities that hold to rounding
 TABLE_TOL = 1e-5  # m (0.001 cm): seed 000's table is printed to 0.001 cm
 CUSP_TOL = 1e-6  # rad, interpolated cusp angle vs root of the closed form
@@ -119,7 +119,7 @@ def circumradius(p1, p2, p3):
 def test_roller_pitch_radius_matches_three_point_circle(name, clockwise):
     """Seed 000's method: the circle through three neighbouring pitch points."""
     follower, rise = FOLLOWERS[name]
-    step = 0.01
+    step = 0.002
     theta = np.linspace(0.1, 2 * np.pi - 0.1, 400)
     points = []
     for shift in (-step, 0.0, step):
@@ -129,7 +129,8 @@ def test_roller_pitch_radius_matches_three_point_circle(name, clockwise):
     middle = cam_geometry(follower, theta, *rise_return(theta, rise), clockwise=clockwise)
     radius = circumradius(*points)
     exact = np.abs(middle.pitch_radius)
-    modest = exact < 10 * follower.prime_radius  # near an inflection the circle is ill-posed
+    # near an inflection the circle is ill-posed; across the junction the jerk jumps
+    modest = (exact < 5 * follower.prime_radius) & (np.abs(theta - 5 * np.pi / 6) > 2 * step)
     assert modest.sum() > 300
     assert np.all(np.abs(radius - exact)[modest] < CIRCLE_RTOL * exact[modest])
     turn = points[1] - points[0], points[2] - points[1]
@@ -382,8 +383,11 @@ def test_seed_000_table_matches_the_motion():
 
 @pytest.mark.parametrize('table_clockwise', [True, False])
 def test_seed_000_table_fourth_column_is_base_radius_minus_rho(table_clockwise):
-    """rho = Rb + f + f'' (lecture), so the 4th column -(f + f'') = Rb - rho: the base radius at
-    which the surface would have a cusp at that angle; t = f' is the contact offset."""
+    """Match the table's 4th column, -(f + f'') = Rb - rho, and its t = f'.
+
+    With the lecture's rho = Rb + f + f'', the 4th column is the base radius at which the surface
+    would have a cusp at that angle; t = f' is the contact offset along the face.
+    """
     theta = np.radians(SEED_000_TABLE[:, 0])
     geometry = cam_geometry(TranslatingFlat(SEED_000_BASE), theta, *seed_000(theta, 2 * CM),
                             clockwise=table_clockwise)
@@ -448,12 +452,12 @@ def test_seed_000_base_radius_3_2_cm_has_a_cusp_the_table_hides():
 # ---------------------------------------------------------------- checks
 
 def test_check_reports_roller_undercut_where_pitch_radius_below_roller_radius():
-    follower = TranslatingRoller(0.01, 0.012, 0.0)
+    follower = TranslatingRoller(0.02, 0.015, 0.0)
     theta = np.linspace(0.0, 2 * np.pi, 7201)
-    geometry = cam_geometry(follower, theta, *seed_000(theta, 0.02))
+    geometry = cam_geometry(follower, theta, *rise_return(theta, 0.03, np.pi / 4))
     check = check_geometry(geometry)
     rho = geometry.pitch_radius
-    undercut = (rho > 0) & (rho <= 0.012)
+    undercut = (rho > 0) & (rho <= 0.015)
     assert undercut.any()
     np.testing.assert_array_equal(check.undercut_angles, theta[undercut])
     assert check.cusp_angles.size >= 2 and not check.ok
@@ -510,7 +514,8 @@ ZERO = np.zeros(10)
 
 @pytest.mark.parametrize('follower, args, parameter', [
     (TranslatingFlat(0.04), (THETA, ZERO[:5], ZERO, ZERO), 's'),
-    (TranslatingFlat(0.04), (THETA[::-1], ZERO, ZERO, ZERO), 'theta[1]'),
+    (TranslatingFlat(0.04), ([[0.0]], [0.0], [0.0], [0.0]), 'theta'),
+    (TranslatingFlat(0.04), (THETA, ZERO, ZERO, ['x'] * 10), 'd2s'),
     (TranslatingFlat(0.04), (THETA, ZERO, np.where(THETA > 3, np.nan, 0.0), ZERO), 'ds[5]'),
     (TranslatingFlat(0.04), (THETA, ZERO, ZERO, np.zeros((10, 1))), 'd2s'),
     (TranslatingFlat(0.04), (THETA, np.where(THETA > 1, -0.05, 0.0), ZERO, ZERO), 's[2]'),
