@@ -9,6 +9,7 @@ from __future__ import annotations
 import array
 import math
 import sys
+import time
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -33,6 +34,7 @@ from cam_ros.core import CamDesign, CamError, build_design, check_angles, parse_
 from cam_ros.core.config import (PARAMETERS, REQUIRED, SPECS, ParameterSpec,
                                  read_parameters_file)
 from cam_ros.paths import default_config_path
+from cam_ros.recording import PARAMETER_EVENTS, Recorder, TopicSpec
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
@@ -103,6 +105,9 @@ class CamNode(Node):
         self._start_ns = self.get_clock().now().nanoseconds
         self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
                                               self._publish_state)
+        self._recorder: Recorder | None = None
+        if self.design.config.recording_enabled:
+            self._set_recording(True)
         self._publish_design()
         self._log_design()
         name = self.get_fully_qualified_name()
@@ -133,6 +138,9 @@ class CamNode(Node):
         self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
         self._publish_design()
         self._log_design()
+        for param in updates:
+            if param.name == 'recording.enabled':
+                self._set_recording(param.value)
 
     def _log_design(self) -> None:
         self.get_logger().info(self.design.summary())
@@ -172,8 +180,46 @@ class CamNode(Node):
         return response
 
     def _record(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
-        response.success, response.message = False, 'recording is not available yet'
+        response.success, response.message = self._set_recording(request.data)
         return response
+
+    def _set_recording(self, enabled: bool) -> tuple[bool, str]:
+        """Start or stop recording this node's topics to a new MCAP file; say what happened."""
+        if not enabled:
+            if self._recorder is None:
+                return True, 'not recording'
+            recorder, self._recorder = self._recorder, None
+            recorder.close()
+            return True, f'stopped; {recorder.message_count} messages in {recorder.path}'
+        if self._recorder is not None and not self._recorder.failed:
+            return True, f'already recording to {self._recorder.path}'
+        config = self.design.config
+        stamp = time.strftime('%Y%m%d-%H%M%S')
+        path = Path(config.recording_directory) / f'{self.get_name()}_{stamp}.mcap'
+        attachments = {'cam_config.yaml': self._params_file.read_text()} if (
+            self._params_file and self._params_file.exists()) else {}
+        description = {'params_file': str(self._params_file or ''),
+                       'design': self.design.summary()}
+        try:
+            self._recorder = Recorder(self, path, self._recorded_topics(),
+                                      compression=config.recording_compression,
+                                      attachments=attachments, description=description)
+        except CamError as err:
+            self.get_logger().error(f'recording not started: {err}')
+            return False, str(err)
+        self.get_logger().info(f'recording to {path}')
+        return True, f'recording to {path}'
+
+    def _recorded_topics(self) -> list[TopicSpec]:
+        publishers = (self._profile_pub, self._pressure_pub, self._markers_pub, self._joint_pub,
+                      self._extras_pub)
+        return [TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
+                for pub in publishers] + [PARAMETER_EVENTS]
+
+    def destroy_node(self) -> None:
+        """Close a running recording (writing its summary) before the node goes away."""
+        self._set_recording(False)
+        super().destroy_node()
 
     # Topics -------------------------------------------------------------------------------
     def _publish_design(self) -> None:

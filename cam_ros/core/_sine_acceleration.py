@@ -16,73 +16,76 @@ FRACTION_SUM_TOLERANCE = 1e-9
 #: Tolerance (in y') of that search for the via-point velocity.
 VIA_VELOCITY_XATOL = 1e-12
 
-#: One term A*sin(omega*t + phase) of a piece's acceleration.
+#: One term A*sin(omega*t + phase) of a piece's acceleration (omega != 0).
 Term = tuple[float, float, float]
-#: One piece: (length in u, constant acceleration, sinusoid terms).
-Piece = tuple[float, float, Sequence[Term]]
 
 
-@dataclass(frozen=True, eq=False)
-class AccelerationPieces:
+@dataclass(frozen=True)
+class AccelerationPiece:
     """
-    Piecewise acceleration y'' = const + sum(amplitude * sin(omega * t + phase)), t local.
+    One piece: y'' = const + sum(A sin(omega t + phase)) for local t in [0, length].
 
-    Integrated twice from y(0) = y'(0) = 0 with y and y' continuous at every edge; y'' is
-    continuous where the caller's pieces make it so.  Arrays: edges (n + 1), const (n),
-    amplitude/omega/phase (n, terms), start_position/start_velocity (n).
+    position and velocity are y and y' at the piece's start.
     """
 
-    edges: FloatArray
-    const: FloatArray
-    amplitude: FloatArray
-    omega: FloatArray
-    phase: FloatArray
-    start_position: FloatArray
-    start_velocity: FloatArray
+    start: float
+    length: float
+    const: float
+    terms: tuple[Term, ...] = ()
+    position: float = 0.0
+    velocity: float = 0.0
 
-    @classmethod
-    def build(cls, pieces: Sequence[Piece]) -> 'AccelerationPieces':
-        """Chain the pieces (zero-length pieces must be left out by the caller)."""
-        width = max(1, max(len(terms) for _, _, terms in pieces))
-        padded = [list(terms) + [(0.0, 1.0, 0.0)] * (width - len(terms)) for _, _, terms in pieces]
-        amplitude, omega, phase = np.moveaxis(np.array(padded, dtype=float), 2, 0)
-        lengths = np.array([length for length, _, _ in pieces], dtype=float)
-        const = np.array([value for _, value, _ in pieces], dtype=float)
-        zero = np.zeros_like(lengths)
-        rise = _local_values(lengths, zero, zero, const, amplitude, omega, phase)
-        velocity = np.concatenate(([0.0], np.cumsum(rise.y1)[:-1]))
-        position = np.concatenate(([0.0], np.cumsum(rise.y + velocity * lengths)[:-1]))
-        edges = np.concatenate(([0.0], np.cumsum(lengths)))
-        return cls(edges, const, amplitude, omega, phase, position, velocity)
+    def values(self, t: FloatArray) -> LawValues:
+        """Return y, y', y'', y''' at local t by integrating the acceleration twice."""
+        const = self.const
+        y = self.position + self.velocity * t + 0.5 * const * t * t
+        y1 = self.velocity + const * t
+        y2 = np.full(np.shape(t), const)
+        y3 = np.zeros(np.shape(t))
+        for amplitude, omega, phase in self.terms:
+            angle = omega * t + phase
+            sin, cos = np.sin(angle), np.cos(angle)
+            ratio = amplitude / omega
+            y += ratio * (t * math.cos(phase) - (sin - math.sin(phase)) / omega)
+            y1 += ratio * (math.cos(phase) - cos)
+            y2 += amplitude * sin
+            y3 += amplitude * omega * cos
+        return LawValues(y, y1, y2, y3)
 
-    def scaled(self, factor: float) -> 'AccelerationPieces':
-        """Return the pieces with every acceleration (hence y and y') multiplied by factor."""
-        return AccelerationPieces(self.edges, self.const * factor, self.amplitude * factor,
-                                  self.omega, self.phase, self.start_position * factor,
-                                  self.start_velocity * factor)
-
-    def evaluate(self, u: FloatArray) -> LawValues:
-        """Return y, y', y'', y''' at u (a point on an edge belongs to the piece it starts)."""
-        index = np.searchsorted(self.edges[1:-1], u, side='right')
-        return _local_values(u - self.edges[index], self.start_position[index],
-                             self.start_velocity[index], self.const[index],
-                             self.amplitude[index], self.omega[index], self.phase[index])
+    def scaled(self, factor: float) -> 'AccelerationPiece':
+        """Return the piece with its acceleration, start position and velocity times factor."""
+        terms = tuple((amplitude * factor, omega, phase) for amplitude, omega, phase in self.terms)
+        return AccelerationPiece(self.start, self.length, self.const * factor, terms,
+                                 self.position * factor, self.velocity * factor)
 
 
-def _local_values(t: FloatArray, position: FloatArray, velocity: FloatArray, const: FloatArray,
-                  amplitude: FloatArray, omega: FloatArray, phase: FloatArray) -> LawValues:
-    """Integrate y'' = const + sum(A sin(w t + phase)) from y(0) = position, y'(0) = velocity."""
-    t_k = t[..., None]
-    angle = omega * t_k + phase
-    sin, cos = np.sin(angle), np.cos(angle)
-    ratio = amplitude / omega
-    y3 = np.sum(amplitude * omega * cos, axis=-1)
-    y2 = const + np.sum(amplitude * sin, axis=-1)
-    y1 = velocity + const * t + np.sum(ratio * (np.cos(phase) - cos), axis=-1)
-    y = (position + velocity * t + 0.5 * const * t * t
-         + np.sum(ratio * (t_k * np.cos(phase) - (sin - np.sin(phase)) / omega), axis=-1))
-    return LawValues(y, y1, y2, y3)
+def chain(pieces: Sequence[tuple[float, float, Sequence[Term]]]) -> tuple[AccelerationPiece, ...]:
+    """
+    Join pieces (length, const, terms) from y(0) = y'(0) = 0, continuous in y and y'.
 
+    y'' is continuous where the caller's pieces make it so; leave zero-length pieces out.
+    """
+    chained: list[AccelerationPiece] = []
+    start = position = velocity = 0.0
+    for length, const, terms in pieces:
+        piece = AccelerationPiece(start, length, const, tuple(terms), position, velocity)
+        end = piece.values(np.array(length))
+        chained.append(piece)
+        start, position, velocity = start + length, float(end.y), float(end.y1)
+    return tuple(chained)
+
+
+def evaluate_pieces(pieces: Sequence[AccelerationPiece], u: FloatArray) -> LawValues:
+    """Return y, y', y'', y''' at u (a point on an edge belongs to the piece it starts)."""
+    if len(pieces) == 1:
+        return pieces[0].values(u - pieces[0].start)
+    index = np.searchsorted([piece.start for piece in pieces[1:]], u, side='right')
+    result = LawValues(*(np.empty(np.shape(u)) for _ in range(4)))
+    for number, piece in enumerate(pieces):
+        inside = index == number
+        for out, part in zip(result, piece.values(u[inside] - piece.start)):
+            out[inside] = part
+    return result
 
 @dataclass(frozen=True)
 class SccaLaw(MotionLaw):
@@ -224,7 +227,7 @@ class ViaPointLaw(MotionLaw):
         limit = 8.0 / 3.0 * min(self.y_via / first, (1.0 - self.y_via) / second)
         found = minimize_scalar(peak_acceleration, bounds=(0.0, limit), method='bounded',
                                 options={'xatol': VIA_VELOCITY_XATOL})
-        return float(limit)
+        return float(found.x)
 
     @cached_property
     def _pieces(self) -> AccelerationPieces:

@@ -15,14 +15,15 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from recording_support import (CONFIG_TEXT, joint_state, LATCHED_QOS, LATCHED_TOPIC,
-                               PARAMETER_TOPIC, ReferenceRecording, STREAM_COUNT, STREAM_PERIOD,
-                               STREAM_QOS, STREAM_TOPIC, trajectory, wait_until)
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory
 
 import cam_ros.recording
 from cam_ros.recording import PARAMETER_EVENTS, Recorder, TopicSpec
+
+from .recording_support import (CONFIG_TEXT, joint_state, LATCHED_QOS, LATCHED_TOPIC,
+                                PARAMETER_TOPIC, ReferenceRecording, STREAM_COUNT, STREAM_PERIOD,
+                                STREAM_QOS, STREAM_TOPIC, trajectory, wait_until)
 
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 

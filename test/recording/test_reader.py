@@ -5,13 +5,14 @@ import struct
 
 from mcap.reader import make_reader
 import pytest
-from recording_support import (CONFIG_TEXT, joint_state, LATCHED_TOPIC, PARAMETER_TOPIC,
-                               STREAM_COUNT, STREAM_QOS, STREAM_TOPIC, wait_until)
 from sensor_msgs.msg import JointState
 
 from cam_ros.core.errors import RecordingError
 from cam_ros.recording import format_info, info, open_recording, Recorder, TopicSpec
 from cam_ros.recording.qos import qos_to_dict
+
+from .recording_support import (CONFIG_TEXT, joint_state, LATCHED_TOPIC, PARAMETER_TOPIC,
+                                STREAM_COUNT, STREAM_QOS, STREAM_TOPIC, wait_until)
 
 CHUNKED_COUNT = 40
 #: Bytes per chunk of the chunked recording: a few messages each.

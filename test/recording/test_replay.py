@@ -5,13 +5,13 @@ import time
 
 import pytest
 from rclpy.qos import QoSProfile
-from recording_support import (LATCHED_QOS, LATCHED_TOPIC, STREAM_COUNT, STREAM_TOPIC,
-                               wait_until)
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory
 
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.recording import open_recording, replay
+
+from .recording_support import (LATCHED_QOS, LATCHED_TOPIC, STREAM_COUNT, STREAM_TOPIC, wait_until)
 
 #: Deep enough that a burst is never dropped by the receiving queue.
 RECEIVER_QOS = QoSProfile(depth=1000)

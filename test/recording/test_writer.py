@@ -6,14 +6,15 @@ import shutil
 from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 import pytest
-from recording_support import (CONFIG_TEXT, LATCHED_TOPIC, PARAMETER_TOPIC, ReferenceRecording,
-                               STREAM_COUNT, STREAM_QOS, STREAM_TOPIC, wait_until)
 from rosbags.highlevel import AnyReader
 from sensor_msgs.msg import JointState
 import yaml
 
 from cam_ros.core.errors import InvalidParameter, RecordingError
 from cam_ros.recording import open_recording, Recorder, TopicSpec
+
+from .recording_support import (CONFIG_TEXT, LATCHED_TOPIC, PARAMETER_TOPIC, ReferenceRecording,
+                                STREAM_COUNT, STREAM_QOS, STREAM_TOPIC, wait_until)
 #: The offered QoS of the reference topics, spelled out as rosbag2 (Jazzy) writes them.
 ZERO = {'sec': 0, 'nsec': 0}
 EXPECTED_QOS = {

@@ -1,0 +1,42 @@
+"""Serve a trivial std_srvs/SetBool service: the floor the cam node's service is measured against.
+
+Run as ``python -m benchmarks.setbool_server --ros-args -r __node:=NAME``; serves ``/NAME/set_bool``
+with a SingleThreadedExecutor, answering success = request.data, until SIGINT or SIGTERM.
+"""
+from __future__ import annotations
+
+import sys
+from typing import Sequence
+
+import rclpy
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from std_srvs.srv import SetBool
+
+
+def answer(request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
+    """Echo the request's flag as success, with no other work."""
+    response.success = request.data
+    return response
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    """Serve ~/set_bool until Ctrl-C or SIGTERM."""
+    rclpy.init(args=list(sys.argv if args is None else args))
+    node = Node('setbool_server')
+    node.create_service(SetBool, '~/set_bool', answer)
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    try:
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

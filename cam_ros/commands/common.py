@@ -1,0 +1,99 @@
+"""What the commands share: exit codes, loading a design, verdict lines, JSON, tables, progress."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from cam_ros.core import CamDesign, InvalidParameter, build_design, load_config
+
+EXIT_OK = 0
+EXIT_FAILED = 1  # the design violates a limit, or a ROS call failed
+EXIT_INVALID = 2  # invalid config, arguments or input file
+
+
+def load_design(config: str | Path) -> CamDesign:
+    """Read, check and build the design of a config file (raises InvalidParameter)."""
+    return build_design(load_config(config))
+
+
+def say(command: str, message: str) -> None:
+    """Write one line 'cam_ros <command>: <message>' on stderr."""
+    print(f'cam_ros {command}: {message}', file=sys.stderr, flush=True)
+
+
+def verdict(command: str, design: CamDesign) -> int:
+    """Print the design's warnings on stderr; return 1 if it violates a limit, else 0."""
+    for warning in design.warnings():
+        say(command, f'warning: {warning}')
+    return EXIT_OK if design.check.ok else EXIT_FAILED
+
+
+def progress(command: str, message: str) -> None:
+    """Show what a long run is doing, on stderr, when stderr is a terminal."""
+    if sys.stderr.isatty():
+        sys.stderr.write(f'\rcam_ros {command}: {message}\x1b[K')
+        sys.stderr.flush()
+
+
+def end_progress() -> None:
+    """Clear the progress line, if one was shown."""
+    if sys.stderr.isatty():
+        sys.stderr.write('\r\x1b[K')
+        sys.stderr.flush()
+
+
+def plain(value: Any) -> Any:
+    """Return value as JSON-ready Python data: arrays as lists, non-finite floats as None."""
+    if isinstance(value, np.ndarray):
+        return [plain(item) for item in value.tolist()]
+    if isinstance(value, dict):
+        return {str(key): plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(item) for item in value]
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def dump_json(data: Any) -> str:
+    """Return data as strict JSON (non-finite numbers become null), indented."""
+    return json.dumps(plain(data), indent=2, allow_nan=False)
+
+
+def format_table(headers: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    """Return rows of strings as columns: first column left-aligned, others right-aligned."""
+    widths = [max(len(str(cell)) for cell in column) for column in zip(headers, *rows)]
+
+    def line(cells: Sequence[str]) -> str:
+        parts = [f'{cell:<{width}}' if index == 0 else f'{cell:>{width}}'
+                 for index, (cell, width) in enumerate(zip(cells, widths))]
+        return '  '.join(parts).rstrip()
+
+    return '\n'.join([line(headers), *(line(row) for row in rows)])
+
+
+def number(value: float, digits: int = 6) -> str:
+    """Format a number with digits significant digits ('inf', '-inf', 'nan' as such)."""
+    return f'{value:.{digits}g}'
+
+
+def output_path(option: str, path: str | Path, suffixes: Sequence[str]) -> Path:
+    """Return the output path if its suffix is one of suffixes, else raise InvalidParameter."""
+    result = Path(path)
+    if result.suffix.lower() not in suffixes:
+        raise InvalidParameter(option, str(path), 'must end in ' + ', '.join(suffixes))
+    return result
+
+
+def write_error(option: str, path: Path, err: OSError) -> InvalidParameter:
+    """Return the InvalidParameter for an output file that cannot be written."""
+    return InvalidParameter(option, str(path), f'cannot be written ({err.strerror or err})')

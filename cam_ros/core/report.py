@@ -1,0 +1,143 @@
+"""The design report: the numbers `cam_ros report` prints, computed from a CamDesign.
+
+Everything is SI (m, rad, s); positions and their derivatives are in rad (arm angle) for
+oscillating followers. Extremes come from the dense sampling the design's checks use
+(CHECK_SAMPLES per revolution), so the report and the verdict agree.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .design import CHECK_SAMPLES, CamDesign
+from .geometry import TranslatingRoller
+from .program import Discontinuity
+from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
+
+
+@dataclass(frozen=True)
+class SegmentReport:
+    """One segment: law, angles (rad), positions, Cv/Ca/Cj and peak |v|, |a|, |j| at speed (SI)."""
+
+    index: int
+    law: str
+    start: float
+    end: float
+    s_start: float
+    s_end: float
+    cv: float
+    ca: float
+    cj: float
+    peak_velocity: float
+    peak_acceleration: float
+    peak_jerk: float
+
+
+@dataclass(frozen=True)
+class QuickEstimate:
+    """Seed 002's base-radius estimate from the steepest rise, without offset (m).
+
+    base_radius is the estimated prime radius minus the roller radius.
+    """
+
+    segment: int
+    estimate: BaseRadiusEstimate
+    base_radius: float
+
+
+@dataclass(frozen=True)
+class DesignReport:
+    """What a designer needs to judge a cam; angles in rad, lengths in m.
+
+    pressure_angle_max/min are the signed extremes; radius_of_curvature_min is the smallest radius
+    of the convex parts of the surface (inf if none is convex); min_base_radius is the smallest
+    base radius meeting the configured limits with every other parameter kept (None if none
+    does), governing says which limit sets it; face_range is the signed interval (m) of contact
+    offsets a flat face must cover (None for rollers).
+    """
+
+    design: CamDesign
+    pressure_angle_max: float
+    pressure_angle_max_at: float
+    pressure_angle_min: float
+    pressure_angle_min_at: float
+    radius_of_curvature_min: float
+    radius_of_curvature_min_at: float
+    undercut: bool
+    cusp_angles: tuple[float, ...]
+    min_base_radius: Optional[float]
+    min_base_radius_governing: str
+    face_range: Optional[tuple[float, float]]
+    segments: tuple[SegmentReport, ...]
+    continuity: tuple[Discontinuity, ...]
+    quick_estimate: Optional[QuickEstimate]
+    warnings: tuple[str, ...]
+
+    @property
+    def ok(self) -> bool:
+        """Return True when the design meets its limits and is not undercut."""
+        return self.design.check.ok
+
+
+def position_unit(design: CamDesign) -> str:
+    """Return the unit of the follower position: 'm', or 'rad' for oscillating followers."""
+    return 'rad' if design.config.follower.type.startswith('oscillating') else 'm'
+
+
+def segment_reports(design: CamDesign) -> tuple[SegmentReport, ...]:
+    """Return each segment's characteristic values and peaks at the configured cam speed."""
+    omega = design.config.cam_speed
+    return tuple(
+        SegmentReport(s.index, s.law, s.start, s.end, s.s_start, s.s_end, s.cv, s.ca, s.cj,
+                      s.peak_ds * omega, s.peak_d2s * omega ** 2, s.peak_d3s * omega ** 3)
+        for s in design.program.segment_summary())
+
+
+def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
+    """Return seed 002's estimate for a translating roller from its steepest rise, else None."""
+    follower = design.follower
+    rises = [s for s in design.program.segment_summary() if s.s_end > s.s_start and s.cv > 0]
+    if not isinstance(follower, TranslatingRoller) or not rises:
+        return None
+    steepest = max(rises, key=lambda s: s.peak_ds)
+    estimate = estimate_base_radius(steepest.s_end - steepest.s_start, steepest.end - steepest.start,
+                                    steepest.cv, design.config.pressure_angle_limit)
+    return QuickEstimate(steepest.index, estimate,
+                         estimate.prime_radius - follower.roller_radius)
+
+
+def design_report(design: CamDesign) -> DesignReport:
+    """Compute the report of a design (one dense geometry pass plus the base-radius sizing)."""
+    theta = np.linspace(0.0, 2.0 * math.pi, CHECK_SAMPLES, endpoint=False)
+    motion = design.program.evaluate(theta)
+    geometry = design.geometry(CHECK_SAMPLES)
+    check = design.check
+    sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
+                              clockwise=design.clockwise,
+                              max_pressure_angle=design.config.pressure_angle_limit,
+                              min_radius=design.config.min_radius_of_curvature)
+    high = int(np.argmax(geometry.pressure_angle))
+    low = int(np.argmin(geometry.pressure_angle))
+    face = None if check.face_min is None or check.face_max is None \
+        else (check.face_min, check.face_max)
+    return DesignReport(
+        design=design,
+        pressure_angle_max=float(geometry.pressure_angle[high]),
+        pressure_angle_max_at=float(theta[high]),
+        pressure_angle_min=float(geometry.pressure_angle[low]),
+        pressure_angle_min_at=float(theta[low]),
+        radius_of_curvature_min=check.min_radius,
+        radius_of_curvature_min_at=check.min_radius_at,
+        undercut=check.undercut,
+        cusp_angles=tuple(float(angle) for angle in check.cusp_angles),
+        min_base_radius=sizing.base_radius,
+        min_base_radius_governing=sizing.governing,
+        face_range=face,
+        segments=segment_reports(design),
+        continuity=design.program.continuity_report(),
+        quick_estimate=quick_estimate(design),
+        warnings=tuple(design.warnings()),
+    )

@@ -1,0 +1,1 @@
+"""Tests of cam_ros.recording (a package, so its conftest never shadows test/conftest.py)."""
