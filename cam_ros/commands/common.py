@@ -27,10 +27,12 @@ def say(command: str, message: str) -> None:
 
 
 def verdict(command: str, design: CamDesign) -> int:
-    """Print the design's warnings on stderr; return 1 if it violates a limit, else 0."""
+    """Return 0 if the design meets its limits, else print its warnings on stderr and return 1."""
+    if design.check.ok:
+        return EXIT_OK
     for warning in design.warnings():
         say(command, f'warning: {warning}')
-    return EXIT_OK if design.check.ok else EXIT_FAILED
+    return EXIT_FAILED
 
 
 def progress(command: str, message: str) -> None:

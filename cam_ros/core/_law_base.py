@@ -47,6 +47,19 @@ def finite_float(parameter: str, value: object) -> float:
     return number
 
 
+def checked_array(parameter: str, values: npt.ArrayLike,
+                  valid: Callable[[FloatArray], npt.NDArray[np.bool_]], rule: str) -> FloatArray:
+    """Return values as a float array, or raise naming the parameter and the first bad value."""
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise InvalidParameter(parameter, values, rule) from err
+    good = valid(array)
+    if not np.all(good):
+        raise InvalidParameter(parameter, float(array[~good].flat[0]), rule)
+    return array
+
+
 def full_like(u: FloatArray, value: float) -> FloatArray:
     """Return an array shaped like u filled with value."""
     return np.full(np.shape(u), value, dtype=float)
@@ -60,11 +73,11 @@ class MotionLaw(ABC):
     `evaluate` rejects u outside [0, 1] (a motion program maps each cam angle into its segment,
     so a law is never asked to extrapolate).  The characteristic values `cv`, `ca`, `cj` are the
     peaks of |y'|, |y''|, |y'''| over [0, 1], found once by dense sampling of every piece and a
-    bounded refinement of the largest sample.  A jump of y, y' or y'' *inside* the law (at one of
-    its `breakpoints`) makes the next peak infinite (constant acceleration: cj = inf).  Jumps at
-    u = 0 or 1 against the neighbouring segments are the motion program's business: its
-    continuity report lists them (constant velocity: cv = 1, ca = cj = 0 inside the law, but y'
-    jumps against a dwell, an acceleration impulse).
+    bounded refinement of the largest sampled local maxima.  A jump of y, y' or y'' *inside*
+    the law (at one of its `breakpoints`) makes the next peak infinite (constant acceleration:
+    cj = inf).  Jumps at u = 0 or 1 against the neighbouring segments are the motion program's
+    business: its continuity report lists them (constant velocity: cv = 1, ca = cj = 0 inside
+    the law, but y' jumps against a dwell, an acceleration impulse).
     """
 
     name: ClassVar[str]
@@ -80,10 +93,7 @@ class MotionLaw(ABC):
 
     def evaluate(self, u: npt.ArrayLike) -> LawValues:
         """Return y and its first three derivatives at u in [0, 1] (float arrays shaped like u)."""
-        x = np.asarray(u, dtype=float)
-        inside = (x >= 0.0) & (x <= 1.0)
-        if not np.all(inside):
-            raise InvalidParameter('u', float(x[~inside].flat[0]), 'must lie in [0, 1]')
+        x = checked_array('u', u, lambda x: (x >= 0.0) & (x <= 1.0), 'must lie in [0, 1]')
         return LawValues(*(np.asarray(values, dtype=float) for values in self._derivatives(x)))
 
     @cached_property

@@ -13,7 +13,7 @@ from .errors import InvalidParameter
 
 #: Largest |b + c + d - 1| accepted for an SCCA law.
 FRACTION_SUM_TOLERANCE = 1e-9
-#: Tolerance (in y') of that search for the via-point velocity.
+#: Tolerance (in y') of the search for the via-point velocity.
 VIA_VELOCITY_XATOL = 1e-12
 
 #: One term A*sin(omega*t + phase) of a piece's acceleration (omega != 0).
@@ -87,6 +87,7 @@ def evaluate_pieces(pieces: Sequence[AccelerationPiece], u: FloatArray) -> LawVa
             out[inside] = part
     return result
 
+
 @dataclass(frozen=True)
 class SccaLaw(MotionLaw):
     """
@@ -116,27 +117,28 @@ class SccaLaw(MotionLaw):
             raise InvalidParameter('b + c + d', total, 'the fractions must add up to 1')
 
     @cached_property
-    def _pieces(self) -> AccelerationPieces:
+    def _pieces(self) -> tuple[AccelerationPiece, ...]:
         total = self.b + self.c + self.d
         b, c, d = self.b / total, self.c / total, self.d / total
         half_pi = 0.5 * math.pi
-        zones: list[Piece] = [
-            (0.5 * b, 0.0, [(1.0, math.pi / b if b else 1.0, 0.0)]),
+        zones = [  # (length, const, terms) with unit peak acceleration
+            (0.5 * b, 0.0, [(1.0, math.pi / b, 0.0)] if b else []),
             (0.5 * c, 1.0, []),
-            (d, 0.0, [(1.0, math.pi / d if d else 1.0, half_pi)]),
+            (d, 0.0, [(1.0, math.pi / d, half_pi)] if d else []),
             (0.5 * c, -1.0, []),
-            (0.5 * b, 0.0, [(1.0, math.pi / b if b else 1.0, -half_pi)]),
+            (0.5 * b, 0.0, [(1.0, math.pi / b, -half_pi)] if b else []),
         ]
-        unit = AccelerationPieces.build([zone for zone in zones if zone[0] > 0.0])
-        return unit.scaled(1.0 / float(unit.evaluate(np.array(1.0)).y))
+        unit = chain([zone for zone in zones if zone[0] > 0.0])
+        scale = 1.0 / float(evaluate_pieces(unit, np.array(1.0)).y)
+        return tuple(piece.scaled(scale) for piece in unit)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
         """Interior edges of the non-empty zones."""
-        return tuple(float(edge) for edge in self._pieces.edges[1:-1])
+        return tuple(piece.start for piece in self._pieces[1:])
 
     def _derivatives(self, u: FloatArray) -> LawValues:
-        return self._pieces.evaluate(u)
+        return evaluate_pieces(self._pieces, u)
 
 
 @dataclass(frozen=True)
@@ -230,11 +232,11 @@ class ViaPointLaw(MotionLaw):
         return float(found.x)
 
     @cached_property
-    def _pieces(self) -> AccelerationPieces:
+    def _pieces(self) -> tuple[AccelerationPiece, ...]:
         first, second = self.u_via, 1.0 - self.u_via
         a1, b1 = _part_amplitudes(first, self.y_via, self.velocity)
         a2, b2 = _part_amplitudes(second, 1.0 - self.y_via, self.velocity)
-        return AccelerationPieces.build([
+        return chain([
             (first, 0.0, [(a1, math.pi / first, 0.0), (b1, 2.0 * math.pi / first, 0.0)]),
             (second, 0.0, [(-a2, math.pi / second, 0.0), (b2, 2.0 * math.pi / second, 0.0)]),
         ])
@@ -245,4 +247,4 @@ class ViaPointLaw(MotionLaw):
         return (float(self.u_via),)
 
     def _derivatives(self, u: FloatArray) -> LawValues:
-        return self._pieces.evaluate(u)
+        return evaluate_pieces(self._pieces, u)

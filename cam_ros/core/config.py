@@ -16,8 +16,9 @@ A file looks like::
 
 Nested keys flatten to dotted ROS parameter names (``follower.base_radius``). Every parameter is
 listed once in :data:`PARAMETERS` with its type, default, unit and rule; the node declares exactly
-these, and :func:`parse_parameters` applies the same rules without ROS, so a file the CLI accepts is
-a file the node accepts. Values come out in SI (m, rad, s); angles in the file are in degrees.
+these, and :func:`parse_parameters` applies the same rules without ROS, so a file the CLI
+accepts is a file the node accepts. Values come out in SI (m, rad, s); angles in the file are in
+degrees.
 """
 from __future__ import annotations
 
@@ -32,7 +33,8 @@ import yaml
 from .errors import InvalidParameter
 
 LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
-FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller', 'oscillating_flat')
+FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller',
+                  'oscillating_flat')
 ROTATIONS = ('clockwise', 'counterclockwise')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
 NODE_NAMES = ('cam', '/cam', '/**')
@@ -41,10 +43,10 @@ REQUIRED = object()  # default of a parameter the file must give
 
 @dataclass(frozen=True)
 class ParameterSpec:
-    """One parameter of the config format: ROS type, default, unit and rule (for the descriptor)."""
+    """One parameter of the config format: ROS type, default, unit and rule."""
 
     name: str
-    type: str  # 'double', 'integer', 'string', 'bool', 'double_array', 'integer_array', 'string_array'
+    type: str  # double, integer, string, bool, or one of those with the suffix _array
     default: Any
     description: str
     unit: str = ''
@@ -56,7 +58,7 @@ class ParameterSpec:
     @property
     def rule(self) -> str:
         """Say in words what a valid value is."""
-        parts = [f'a {self.type.replace("_", " ")}']
+        parts = [self.type.replace('_', ' ')]
         if self.choices:
             parts.append('one of ' + ', '.join(self.choices))
         if self.minimum is not None and self.maximum is not None:
@@ -71,8 +73,10 @@ def _p(name: str, type_: str, default: Any, description: str, **kw: Any) -> Para
 
 
 PARAMETERS: tuple[ParameterSpec, ...] = (
-    _p('length_unit', 'string', 'm', 'Unit of every length in this file', choices=tuple(LENGTH_UNITS)),
-    _p('rotation', 'string', 'clockwise', 'Direction the cam turns, seen from +z', choices=ROTATIONS),
+    _p('length_unit', 'string', 'm', 'Unit of every length in this file',
+       choices=tuple(LENGTH_UNITS)),
+    _p('rotation', 'string', 'clockwise', 'Direction the cam turns, seen from +z',
+       choices=ROTATIONS),
     _p('cam_speed', 'double', 2 * math.pi, 'Constant cam speed', unit='rad/s',
        minimum=1e-9, maximum=1e5),
     _p('follower.type', 'string', REQUIRED, 'Follower kind', choices=FOLLOWER_TYPES),
@@ -93,7 +97,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('motion.laws', 'string_array', REQUIRED, 'Motion law of each segment'),
     _p('motion.start_deg', 'double_array', REQUIRED, 'Cam angle where each segment starts',
        unit='deg'),
-    _p('motion.end_deg', 'double_array', REQUIRED, 'Cam angle where each segment ends', unit='deg'),
+    _p('motion.end_deg', 'double_array', REQUIRED, 'Cam angle where each segment ends',
+       unit='deg'),
     _p('motion.start_position', 'double_array', REQUIRED, 'Follower position at each segment '
        'start (length_unit; deg of arm angle for oscillating followers)', unit='length_unit|deg'),
     _p('motion.end_position', 'double_array', REQUIRED, 'Follower position at each segment end',
@@ -197,7 +202,8 @@ def read_parameters_file(path: str | Path) -> dict[str, Any]:
     except yaml.YAMLError as err:
         raise InvalidParameter('config', str(path), f'is not valid YAML: {err}') from err
     if not isinstance(document, Mapping):
-        raise InvalidParameter('config', str(path), 'must be a mapping with a node name at the top')
+        raise InvalidParameter('config', str(path),
+                               'must be a mapping with a node name at the top')
     for node_name in NODE_NAMES:
         section = document.get(node_name)
         if isinstance(section, Mapping) and isinstance(section.get('ros__parameters'), Mapping):
@@ -212,7 +218,8 @@ def _check_type(spec: ParameterSpec, value: Any) -> Any:
     python_type = {'double': float, 'integer': int, 'string': str, 'bool': bool}[scalar]
 
     def ok(item: Any) -> bool:
-        return isinstance(item, python_type) and not (python_type is int and isinstance(item, bool))
+        is_bool_for_int = python_type is int and isinstance(item, bool)
+        return isinstance(item, python_type) and not is_bool_for_int
 
     if spec.type.endswith('_array'):
         if not isinstance(value, (list, tuple)) or not all(ok(item) for item in value):
@@ -221,7 +228,8 @@ def _check_type(spec: ParameterSpec, value: Any) -> Any:
         return tuple(value)
     if not ok(value):
         hint = ' (write 1.0, not 1)' if scalar == 'double' and isinstance(value, int) else ''
-        raise InvalidParameter(spec.name, value, f'must be a {scalar}{hint}')
+        article = 'an' if scalar == 'integer' else 'a'
+        raise InvalidParameter(spec.name, value, f'must be {article} {scalar}{hint}')
     return value
 
 
@@ -264,17 +272,18 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     oscillating = values['follower.type'].startswith('oscillating')
     position_scale = math.radians(1.0) if oscillating else metre
 
-    def lengths(*names: str) -> list[float]:
-        return [values[name] * metre for name in names]
-
     def scaled(name: str, scale: float) -> tuple[float, ...]:
         return tuple(item * scale for item in values[name])
 
+    def length(name: str) -> float:
+        return float(values[f'follower.{name}'] * metre)
+
     follower = FollowerConfig(
-        values['follower.type'],
-        *lengths('follower.base_radius', 'follower.roller_radius', 'follower.offset',
-                 'follower.pivot_distance', 'follower.arm_length', 'follower.face_offset'),
-        values['follower.arm_turns_with_cam'])
+        type=values['follower.type'], base_radius=length('base_radius'),
+        roller_radius=length('roller_radius'), offset=length('offset'),
+        pivot_distance=length('pivot_distance'), arm_length=length('arm_length'),
+        face_offset=length('face_offset'),
+        arm_turns_with_cam=values['follower.arm_turns_with_cam'])
     radian = math.radians(1.0)
     motion = MotionConfig(
         laws=values['motion.laws'],

@@ -9,6 +9,7 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Callable
 
 import numpy as np
 import numpy.typing as npt
@@ -142,7 +143,7 @@ def check_angles(angles: np.ndarray, max_batch: int) -> str | None:
 def build_follower(config: CamConfig) -> Follower:
     """Build the configured follower; errors name the follower.* parameter."""
     f = config.follower
-    builders = {
+    builders: dict[str, Callable[[], Follower]] = {
         'translating_roller': lambda: TranslatingRoller(f.base_radius, f.roller_radius, f.offset),
         'translating_flat': lambda: TranslatingFlat(f.base_radius),
         'oscillating_roller': lambda: OscillatingRoller(f.base_radius, f.roller_radius,

@@ -15,7 +15,7 @@ from types import MappingProxyType
 from typing import Callable, ClassVar, Mapping, Sequence
 
 import numpy as np
-from scipy.interpolate import BSpline, make_interp_spline
+from scipy.interpolate import make_interp_spline, PPoly
 
 from ._law_base import FloatArray, full_like, LawValues, MotionLaw
 from ._polynomial import Condition, Polynomial345, Polynomial4567, PolynomialLaw
@@ -102,10 +102,11 @@ class TableLaw(MotionLaw):
     """
     User law through normalised points (u_i, y_i): a quintic interpolating spline.
 
-    scipy's make_interp_spline(k=5) with y' = y'' = 0 at both ends: C4 inside, at rest at both
-    ends (so y, y', y'' match a neighbouring dwell).  u must rise strictly from 0 to 1; y must
-    start at 0, end at 1 and stay in [0, 1].  With the two end points only it is the 3-4-5 law.
-    The spline may overshoot between points that are close in u but far apart in y.
+    scipy's make_interp_spline(k=5) with y' = y'' = 0 at both ends, evaluated as a PPoly: C4
+    inside, at rest at both ends (so y, y', y'' match a neighbouring dwell).  u must rise
+    strictly from 0 to 1; y must start at 0, end at 1 and stay in [0, 1].  With the two end
+    points only it is the 3-4-5 law.  The spline may overshoot (even run backwards) between
+    points close in u but far apart in y.
     """
 
     name: ClassVar[str] = 'table'
@@ -127,9 +128,9 @@ class TableLaw(MotionLaw):
         object.__setattr__(self, 'y', tuple(y.tolist()))
 
     @cached_property
-    def _splines(self) -> tuple[BSpline, ...]:
+    def _splines(self) -> tuple[PPoly, ...]:
         rest = [(1, 0.0), (2, 0.0)]
-        spline = make_interp_spline(self.u, self.y, k=5, bc_type=(rest, rest))
+        spline = PPoly.from_spline(make_interp_spline(self.u, self.y, k=5, bc_type=(rest, rest)))
         return tuple(spline.derivative(order) if order else spline for order in range(4))
 
     @property

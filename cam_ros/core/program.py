@@ -20,7 +20,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ._law_base import FloatArray
+from ._law_base import checked_array, FloatArray
 from .errors import InvalidParameter
 from .laws import Dwell, LAWS, MotionLaw
 
@@ -164,7 +164,10 @@ class MotionProgram:
 
     def __post_init__(self) -> None:
         """Check the segments once and store them as a tuple."""
-        segments = tuple(self.segments)
+        try:
+            segments = tuple(self.segments)
+        except TypeError as err:
+            raise InvalidParameter('segments', self.segments, 'must be a sequence') from err
         _check_segments(segments)
         object.__setattr__(self, 'segments', segments)
 
@@ -183,10 +186,7 @@ class MotionProgram:
 
     def evaluate(self, theta: npt.ArrayLike) -> ProgramValues:
         """Return s and its derivatives per rad at cam angles theta (rad, any real, mod 2 pi)."""
-        angle = np.asarray(theta, dtype=float)
-        finite = np.isfinite(angle)
-        if not np.all(finite):
-            raise InvalidParameter('theta', float(angle[~finite].flat[0]), 'must be finite (rad)')
+        angle = checked_array('theta', theta, np.isfinite, 'must be finite (rad)')
         local = angle - self.start
         if local.size and not (local.min() >= 0.0 and local.max() < TWO_PI):
             local = np.mod(local, TWO_PI)

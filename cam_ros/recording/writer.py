@@ -179,8 +179,8 @@ class Recorder:
              'type_description_hash': type_hash(type_)}
             for name, type_, spec in zip(names, types, specs)]
         self._counts = [0] * len(specs)
-        self._file, writer = self._open(specs, schemas, compression, chunk_size,
-                                        dict(attachments or {}))
+        self._file, writer, self._channels = self._open(specs, schemas, compression, chunk_size,
+                                                        dict(attachments or {}))
         self._writer: Optional[Writer] = writer
         self._subscriptions: list[Subscription] = []
         self._timer: Optional[Timer] = None
@@ -195,11 +195,13 @@ class Recorder:
         except BaseException:
             with self._lock:
                 self._release()
+            self.path.unlink(missing_ok=True)
             raise
 
     def _open(self, specs: Sequence[TopicSpec], schemas: Mapping[str, str], compression: str,
-              chunk_size: int, attachments: Mapping[str, str]) -> tuple[BinaryIO, Writer]:
-        """Create the file and write header, attachments, metadata, schemas and channels."""
+              chunk_size: int, attachments: Mapping[str, str]
+              ) -> tuple[BinaryIO, Writer, list[int]]:
+        """Create the file; write header, attachments, metadata, schemas, channels (their ids)."""
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             file = open(self.path, 'xb')
@@ -219,17 +221,18 @@ class Recorder:
             writer.add_metadata('rosbag2', {'serialized_metadata': self._bag_metadata()})
             schema_ids = {name: writer.register_schema(name, 'ros2msg', text.encode('utf-8'))
                           for name, text in schemas.items()}
-            for topic, spec in zip(self._topics, specs):
+            channels = [
                 writer.register_channel(
                     topic['name'], 'cdr', schema_ids[topic['type']],
                     {'offered_qos_profiles': dump_qos([spec.qos]),
                      'topic_type_hash': topic['type_description_hash']})
+                for topic, spec in zip(self._topics, specs)]
         except OSError as exc:
             _close_quietly(file)
             self.path.unlink(missing_ok=True)
             raise RecordingError(f'cannot write recording {self.path}: {exc.strerror or exc}'
                                  ) from exc
-        return file, writer
+        return file, writer, channels
 
     def _bag_metadata(self) -> str:
         """Return the rosbag2 metadata text for the messages written so far."""
@@ -249,7 +252,7 @@ class Recorder:
             self._last_ns = log_time
             try:
                 self._writer.add_message(
-                    index + 1, log_time=log_time, data=data,
+                    self._channels[index], log_time=log_time, data=data,
                     publish_time=info.get('source_timestamp') or log_time,
                     sequence=(info.get('publication_sequence_number') or 0) & 0xFFFFFFFF)
             except OSError as exc:
@@ -291,7 +294,6 @@ class Recorder:
             try:
                 writer.add_metadata('rosbag2', {'serialized_metadata': self._bag_metadata()})
                 writer.finish()
-                self._file.flush()
             except OSError as exc:
                 self._fail(exc)
             else:

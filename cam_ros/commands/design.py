@@ -1,0 +1,250 @@
+"""Design commands on a config file: report, sample, plot, export (no ROS needed)."""
+from __future__ import annotations
+
+import csv
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cam_ros.commands.common import (dump_json, end_progress, format_table, load_design, number,
+                                     output_path, progress, verdict, write_error)
+from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core.report import DesignReport, design_report, position_unit
+
+ORDER_NAMES = ('position', 'velocity', 'acceleration', 'jerk')
+#: The arrays of `cam_ros sample`, in output order: (name, CamState field, unit; {p} = m or rad).
+SAMPLE_FIELDS = (
+    ('angle', 'angle', 'rad'),
+    ('position', 'position', '{p}'),
+    ('velocity', 'velocity', '{p}/s'),
+    ('acceleration', 'acceleration', '{p}/s^2'),
+    ('jerk', 'jerk', '{p}/s^3'),
+    ('dposition_dangle', 'ds', '{p}/rad'),
+    ('d2position_dangle2', 'd2s', '{p}/rad^2'),
+    ('d3position_dangle3', 'd3s', '{p}/rad^3'),
+    ('pressure_angle', 'pressure_angle', 'rad'),
+    ('radius_of_curvature', 'radius_of_curvature', 'm'),
+)
+
+
+# ------------------------------------------------------------------------------------ report
+
+def report_data(report: DesignReport, config: str) -> dict[str, Any]:
+    """Return the report as the JSON object `cam_ros report --json` prints (SI, angles deg)."""
+    design = report.design
+    cfg = design.config
+    unit = position_unit(design)
+    estimate = report.quick_estimate
+    return {
+        'config': str(config),
+        'ok': report.ok,
+        'warnings': list(report.warnings),
+        'follower': {'type': cfg.follower.type, **{
+            name: value for name, value in vars(design.follower).items()}},
+        'rotation': 'clockwise' if cfg.clockwise else 'counterclockwise',
+        'cam_speed': cfg.cam_speed,
+        'position_unit': unit,
+        'limits': {'pressure_angle_deg': math.degrees(cfg.pressure_angle_limit),
+                   'min_radius_of_curvature': cfg.min_radius_of_curvature},
+        'pressure_angle_max_deg': math.degrees(report.pressure_angle_max),
+        'pressure_angle_max_at_deg': math.degrees(report.pressure_angle_max_at),
+        'pressure_angle_min_deg': math.degrees(report.pressure_angle_min),
+        'pressure_angle_min_at_deg': math.degrees(report.pressure_angle_min_at),
+        'pressure_angle_ok': design.check.pressure_angle_ok,
+        'radius_of_curvature_min': report.radius_of_curvature_min,
+        'radius_of_curvature_min_at_deg': math.degrees(report.radius_of_curvature_min_at),
+        'radius_of_curvature_ok': design.check.radius_ok,
+        'undercut': report.undercut,
+        'cusp_angles_deg': [math.degrees(angle) for angle in report.cusp_angles],
+        'min_base_radius': report.min_base_radius,
+        'min_base_radius_governing': report.min_base_radius_governing,
+        'face_width': None if report.face_range is None else list(report.face_range),
+        'segments': [{
+            'index': s.index, 'law': s.law, 'start_deg': math.degrees(s.start),
+            'end_deg': math.degrees(s.end), 'start_position': s.s_start,
+            'end_position': s.s_end, 'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
+            'peak_velocity': s.peak_velocity, 'peak_acceleration': s.peak_acceleration,
+            'peak_jerk': s.peak_jerk} for s in report.segments],
+        'continuity': [{
+            'angle_deg': math.degrees(jump.angle), 'order': jump.order,
+            'derivative': ORDER_NAMES[jump.order], 'jump': jump.jump, 'left': jump.left,
+            'right': jump.right, 'unit': f'{unit}/rad^{jump.order}' if jump.order else unit,
+            'segment': jump.segment} for jump in report.continuity],
+        'quick_estimate': None if estimate is None else {
+            'segment': estimate.segment, 'mean_radius': estimate.estimate.mean_radius,
+            'prime_radius': estimate.estimate.prime_radius, 'base_radius': estimate.base_radius,
+            'size_index': estimate.estimate.size_index, 'big_cam': estimate.estimate.big_cam},
+    }
+
+
+def _limit_state(ok: bool | None) -> str:
+    return {True: 'ok', False: 'VIOLATED', None: 'no limit'}[ok]
+
+
+def _follower_line(design: CamDesign) -> str:
+    """Describe the follower and its lengths in one line."""
+    fields = ', '.join(f'{name.replace("_", " ")} {number(value)} m'
+                       if isinstance(value, float) else f'{name.replace("_", " ")} {value}'
+                       for name, value in vars(design.follower).items())
+    return f'{design.config.follower.type.replace("_", " ")}: {fields}'
+
+
+def _segment_table(report: DesignReport) -> str:
+    unit = position_unit(report.design)
+    headers = ('#', 'law', 'start deg', 'end deg', f'from {unit}', f'to {unit}', 'Cv', 'Ca',
+               'Cj', f'peak v {unit}/s', f'peak a {unit}/s^2', f'peak j {unit}/s^3')
+    rows = [(str(s.index), s.law, f'{math.degrees(s.start):.2f}', f'{math.degrees(s.end):.2f}',
+             number(s.s_start), number(s.s_end), number(s.cv, 5), number(s.ca, 5),
+             number(s.cj, 5), number(s.peak_velocity, 5), number(s.peak_acceleration, 5),
+             number(s.peak_jerk, 5)) for s in report.segments]
+    return format_table(headers, rows)
+
+
+def _continuity_table(report: DesignReport) -> str:
+    unit = position_unit(report.design)
+    if not report.continuity:
+        return '  none: s and its first three derivatives are continuous'
+    rows = [(f'{math.degrees(j.angle):.2f}', ORDER_NAMES[j.order], number(j.left),
+             number(j.right), f'{j.jump:+.6g}', f'{unit}/rad^{j.order}' if j.order else unit)
+            for j in report.continuity]
+    table = format_table(('at deg', 'derivative', 'left', 'right', 'jump', 'per'), rows)
+    return '\n'.join('  ' + line for line in table.splitlines())
+
+
+def format_report(report: DesignReport, config: str) -> str:
+    """Return the readable report `cam_ros report` prints."""
+    design = report.design
+    cfg = design.config
+    check = design.check
+    limit = math.degrees(cfg.pressure_angle_limit)
+    sense = 'clockwise' if cfg.clockwise else 'counter-clockwise'
+    rows = [
+        ('Follower', _follower_line(design)),
+        ('Cam', f'{sense} at {number(cfg.cam_speed)} rad/s '
+                f'({number(cfg.cam_speed * 30.0 / math.pi)} rpm); lengths in SI (config: '
+                f'{cfg.length_unit})'),
+        ('Pressure angle', f'max {math.degrees(report.pressure_angle_max):.2f} deg at '
+                           f'{math.degrees(report.pressure_angle_max_at):.1f} deg, min '
+                           f'{math.degrees(report.pressure_angle_min):.2f} deg at '
+                           f'{math.degrees(report.pressure_angle_min_at):.1f} deg; limit '
+                           f'|angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
+        ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m (convex parts) '
+                                f'at {math.degrees(report.radius_of_curvature_min_at):.1f} deg; '
+                                f'limit >= {number(cfg.min_radius_of_curvature)} m: '
+                                f'{_limit_state(check.radius_ok)}'),
+        ('Undercut', 'YES, cusps at ' + ', '.join(
+            f'{math.degrees(a):.1f}' for a in report.cusp_angles) + ' deg'
+            if report.undercut else 'none'),
+        ('Base radius', f'{number(design.follower.base_radius)} m; smallest meeting the limits: '
+                        + (f'{number(report.min_base_radius)} m (set by '
+                           f'{report.min_base_radius_governing.replace("_", " ")})'
+                           if report.min_base_radius is not None else 'none found')),
+    ]
+    if report.face_range is not None:
+        low, high = report.face_range
+        rows.append(('Face width', f'contact from {number(low)} to {number(high)} m along the '
+                                   f'face: at least {number(high - low)} m long'))
+    estimate = report.quick_estimate
+    if estimate is not None:
+        rows.append(('Quick estimate', f'seed 002 from segment {estimate.segment} without offset:'
+                                       f' R = {number(estimate.estimate.mean_radius)} m, base '
+                                       f'radius {number(estimate.base_radius)} m, size index '
+                                       f'R/h = {estimate.estimate.size_index:.3g}'
+                                       + (' (big cam)' if estimate.estimate.big_cam else '')))
+    width = max(len(label) for label, _ in rows) + 2
+    lines = [f'cam_ros report: {config}', '']
+    lines += [f'{label:<{width}}{text}' for label, text in rows]
+    lines += ['', 'Segments (peaks at the cam speed)', _segment_table(report)]
+    lines += ['', 'Discontinuities', _continuity_table(report)]
+    if report.warnings:
+        lines += ['', 'Warnings'] + [f'  - {warning}' for warning in report.warnings]
+    lines += ['', 'Verdict: ' + ('meets its limits' if report.ok else 'VIOLATES its limits')]
+    return '\n'.join(lines)
+
+
+def report(config: str, json_output: bool = False) -> int:
+    """Print the design report of a config; 1 if the design violates a limit."""
+    design = load_design(config)
+    progress('report', 'sizing the base radius')
+    result = design_report(design)
+    end_progress()
+    print(dump_json(report_data(result, config)) if json_output else format_report(result, config))
+    return 0 if result.ok else 1
+
+
+# ------------------------------------------------------------------------------------ sample
+
+def sample_angles(step_deg: float) -> np.ndarray:
+    """Return cam angles (rad) from 0 in steps of step_deg degrees, below 360 deg."""
+    if not (math.isfinite(step_deg) and 0.0 < step_deg <= 360.0):
+        raise InvalidParameter('--step-deg', step_deg, 'must be in (0, 360] deg')
+    return np.radians(np.arange(0.0, 360.0 - 1e-9 * step_deg, step_deg))
+
+
+def sample_units(design: CamDesign) -> dict[str, str]:
+    """Return the unit of each sampled array for this design's follower."""
+    unit = position_unit(design)
+    return {name: template.format(p=unit) for name, _, template in SAMPLE_FIELDS}
+
+
+def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
+           csv_output: bool = False) -> int:
+    """Print the design sampled every step_deg degrees (table, JSON or CSV)."""
+    design = load_design(config)
+    state = design.evaluate(sample_angles(step_deg))
+    units = sample_units(design)
+    columns = {name: getattr(state, field) for name, field, _ in SAMPLE_FIELDS}
+    if json_output:
+        print(dump_json({'config': str(config), 'units': units, **columns}))
+    elif csv_output:
+        writer = csv.writer(sys.stdout, lineterminator='\n')
+        writer.writerow(f'{name}_{unit}'.replace('/', '_per_').replace('^', '')
+                        for name, unit in units.items())
+        writer.writerows(np.column_stack(list(columns.values())).tolist())
+    else:
+        headers = [f'{name} ({units[name]})' for name in columns]
+        rows = [[number(value) for value in row]
+                for row in np.column_stack(list(columns.values())).tolist()]
+        print(format_table(headers, rows))
+    return verdict('sample', design)
+
+
+# ------------------------------------------------------------------------------------ plot/export
+
+def plot(config: str, output: str, angle_deg: float = 0.0) -> int:
+    """Draw S-V-A-J diagrams and the cam at angle_deg into a .png or .svg file."""
+    from cam_ros.plot import FORMATS, plot_design
+
+    target = output_path('-o', output, FORMATS)
+    if not math.isfinite(angle_deg):
+        raise InvalidParameter('--angle-deg', angle_deg, 'must be a finite angle (deg)')
+    design = load_design(config)
+    progress('plot', f'drawing {target}')
+    try:
+        plot_design(design, target, math.radians(angle_deg), title=Path(config).name)
+    except OSError as err:
+        raise write_error('-o', target, err) from err
+    finally:
+        end_progress()
+    print(f'wrote {target}')
+    return verdict('plot', design)
+
+
+def export(config: str, output: str, samples: int | None = None) -> int:
+    """Write the cam surface (mm) to a .csv, .dxf or .svg file for manufacturing."""
+    from cam_ros.export import EXPORT_SAMPLES, WRITERS, export_surface
+
+    target = output_path('-o', output, tuple(WRITERS))
+    design = load_design(config)
+    progress('export', f'writing {target}')
+    try:
+        count = export_surface(design, target, EXPORT_SAMPLES if samples is None else samples)
+    except OSError as err:
+        raise write_error('-o', target, err) from err
+    finally:
+        end_progress()
+    print(f'wrote {target}: closed cam surface of {count} points (mm)')
+    return verdict('export', design)

@@ -1,0 +1,160 @@
+"""Draw a cam design: S-V-A-J diagrams over cam angle and the cam with its follower.
+
+Uses matplotlib's object API (Figure + Agg canvas), never pyplot, so no display and no global
+state are involved. The cam is drawn in the fixed frame (follower side up, +y) turned to the
+chosen cam angle, in mm; the diagrams are in SI units over cam angle in degrees.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from cam_ros.core import (CamDesign, InvalidParameter, OscillatingFlat, OscillatingRoller,
+                          TranslatingFlat, TranslatingRoller, cam_geometry)
+from cam_ros.core.report import position_unit
+
+PLOT_SAMPLES = 3601  # points of the S-V-A-J curves over 0..360 deg
+DRAW_SAMPLES = 1440  # points of the cam curves
+TANGENT_STEP = 1e-6  # rad: half-step of the finite difference giving a flat face's direction
+MM_PER_M = 1000.0
+FORMATS = ('.png', '.svg')
+DPI = 120
+FIGURE_SIZE_IN = (14.0, 8.0)
+
+
+def _rotation(angle: float) -> np.ndarray:
+    """Return the 2x2 matrix turning vectors by angle (rad, counter-clockwise positive)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def _diagrams(design: CamDesign, axes: list, angle: float) -> None:
+    """Plot position, velocity, acceleration and jerk over one revolution on four axes."""
+    theta = np.linspace(0.0, 2.0 * math.pi, PLOT_SAMPLES)
+    theta[-1] = np.nextafter(2.0 * math.pi, 0.0)  # the left limit at 360 deg, not the wrap to 0
+    state = design.evaluate(theta)
+    unit = position_unit(design)
+    rows = ((state.position, f'position ({unit})', 'tab:blue'),
+            (state.velocity, f'velocity ({unit}/s)', 'tab:green'),
+            (state.acceleration, f'acceleration ({unit}/s²)', 'tab:red'),
+            (state.jerk, f'jerk ({unit}/s³)', 'tab:purple'))
+    joints = [math.degrees(segment.start) % 360.0 for segment in design.program.segments]
+    degrees = np.degrees(theta)
+    for ax, (values, label, colour) in zip(axes, rows):
+        ax.plot(degrees, values, color=colour, linewidth=1.2)
+        for joint in joints:
+            ax.axvline(joint, color='0.75', linewidth=0.8, linestyle=':')
+        ax.axvline(math.degrees(angle) % 360.0, color='tab:orange', linewidth=1.0)
+        ax.axhline(0.0, color='0.5', linewidth=0.6)
+        ax.set_ylabel(label, fontsize=9)
+        ax.grid(True, linewidth=0.3)
+        ax.ticklabel_format(axis='y', style='sci', scilimits=(-3, 4))
+    axes[-1].set_xlim(0.0, 360.0)
+    axes[-1].set_xticks(np.arange(0.0, 361.0, 30.0))
+    axes[-1].set_xlabel('cam angle (deg)')
+    laws = ', '.join(segment.law.name for segment in design.program.segments)
+    axes[0].set_title(f'S-V-A-J at {design.config.cam_speed:g} rad/s: {laws}', fontsize=10)
+
+
+def _follower_lines(design: CamDesign, angle: float, turn: np.ndarray) -> dict:
+    """Return the follower's drawing at cam angle (rad) in the fixed frame, in mm."""
+    follower = design.follower
+    theta = angle + np.array([-TANGENT_STEP, 0.0, TANGENT_STEP])
+    motion = design.program.evaluate(theta)
+    shape = cam_geometry(follower, theta, motion.s, motion.ds, motion.d2s,
+                         clockwise=design.clockwise)
+    pitch = turn @ np.array([shape.pitch_x, shape.pitch_y]) * MM_PER_M
+    surface = turn @ np.array([shape.surface_x, shape.surface_y]) * MM_PER_M
+    reference, contact = pitch[:, 1], surface[:, 1]
+    base = follower.base_radius * MM_PER_M
+    lines: dict = {'contact': contact, 'reference': reference}
+    if isinstance(follower, (TranslatingRoller, OscillatingRoller)):
+        lines['roller'] = (reference, follower.roller_radius * MM_PER_M)
+    else:
+        direction = surface[:, 2] - surface[:, 0]
+        direction /= np.hypot(*direction)
+        extent = 0.6 * base
+        offsets = design.check.face_min, design.check.face_max
+        if offsets[0] is not None and offsets[1] is not None:
+            extent = max(abs(offsets[0]), abs(offsets[1])) * MM_PER_M * 1.15 + 0.05 * base
+        lines['face'] = np.stack((reference - extent * direction,
+                                  reference + extent * direction), axis=1)
+    if isinstance(follower, (OscillatingRoller, OscillatingFlat)):
+        pivot = np.array([0.0, follower.pivot_distance * MM_PER_M])
+        lines['arm'] = np.stack((pivot, reference), axis=1)
+        lines['pivot'] = pivot
+    else:
+        offset = follower.offset * MM_PER_M if isinstance(follower, TranslatingRoller) else 0.0
+        top = reference[1] + 0.8 * base
+        lines['stem'] = np.array([[offset, offset], [reference[1], top]])
+    return lines
+
+
+def _drawing(design: CamDesign, ax: object, angle: float) -> None:
+    """Draw the cam turned to angle (rad) with base circle, pitch curve and the follower."""
+    sigma = -1.0 if design.clockwise else 1.0
+    turn = _rotation(sigma * angle)
+    geometry = design.geometry(DRAW_SAMPLES)
+    surface = turn @ np.array([geometry.surface_x, geometry.surface_y]) * MM_PER_M
+    pitch = turn @ np.array([geometry.pitch_x, geometry.pitch_y]) * MM_PER_M
+    base = design.follower.base_radius * MM_PER_M
+    circle = np.linspace(0.0, 2.0 * math.pi, 361)
+    ax.fill(surface[0], surface[1], color='tab:blue', alpha=0.12, linewidth=0)
+    ax.plot(*np.column_stack((surface, surface[:, :1])), color='tab:blue', linewidth=1.6,
+            label='cam surface')
+    ax.plot(*np.column_stack((pitch, pitch[:, :1])), color='tab:orange', linewidth=1.0,
+            linestyle='--', label='pitch curve')
+    ax.plot(base * np.cos(circle), base * np.sin(circle), color='0.5', linewidth=0.8,
+            linestyle=':', label='base circle')
+    mark = turn @ np.array([0.0, 0.35 * base])  # where the cam frame's +y axis points now
+    ax.plot([0.0, mark[0]], [0.0, mark[1]], color='tab:blue', linewidth=1.0)
+    ax.plot([0.0], [0.0], marker='+', color='k', markersize=10)
+    lines = _follower_lines(design, angle, turn)
+    follower_style = {'color': 'tab:red', 'linewidth': 1.6}
+    if 'roller' in lines:
+        centre, radius = lines['roller']
+        ax.plot(centre[0] + radius * np.cos(circle), centre[1] + radius * np.sin(circle),
+                label='follower', **follower_style)
+        ax.plot([centre[0]], [centre[1]], marker='.', color='tab:red')
+    if 'face' in lines:
+        ax.plot(*lines['face'], label='follower', **follower_style)
+    for key in ('stem', 'arm'):
+        if key in lines:
+            ax.plot(*lines[key], color='tab:red', linewidth=1.0)
+    if 'pivot' in lines:
+        ax.plot(*lines['pivot'], marker='o', color='tab:red', markersize=6)
+    ax.plot(*lines['contact'], marker='o', color='k', markersize=3, label='contact')
+    ax.set_aspect('equal', adjustable='datalim')
+    ax.grid(True, linewidth=0.3)
+    ax.set_xlabel('x (mm)')
+    ax.set_ylabel('y (mm)')
+    sense = 'clockwise' if design.clockwise else 'counter-clockwise'
+    kind = design.config.follower.type.replace('_', ' ')
+    ax.set_title(f'{kind} follower, {sense} cam at {math.degrees(angle):g} deg', fontsize=10)
+    ax.legend(loc='lower left', fontsize=8)
+
+
+def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
+                title: str = '') -> Path:
+    """Save the S-V-A-J diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
+    from matplotlib.figure import Figure
+
+    target = Path(path)
+    if target.suffix.lower() not in FORMATS:
+        raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
+    if not math.isfinite(angle):
+        raise InvalidParameter('angle', angle, 'must be a finite cam angle (rad)')
+    figure = Figure(figsize=FIGURE_SIZE_IN, layout='constrained')
+    grid = figure.add_gridspec(4, 2, width_ratios=(1.25, 1.0))
+    first = figure.add_subplot(grid[0, 0])
+    axes = [first] + [figure.add_subplot(grid[row, 0], sharex=first) for row in range(1, 4)]
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    _diagrams(design, axes, angle)
+    _drawing(design, figure.add_subplot(grid[:, 1]), angle)
+    if title:
+        figure.suptitle(title)
+    figure.savefig(target, dpi=DPI)
+    return target
