@@ -195,7 +195,8 @@ class ViaPointLaw(MotionLaw):
     Unknowns a1, b1, a2, b2, V; conditions y(0) = y'(0) = 0 (by integration), y'(u_via) = V,
     y(u_via) = y_via, y'(1) = 0, y(1) = 1 fix the amplitudes linearly for any V:
         a1 = pi V / (2 L1), b1 = 2 pi (y_via - V L1 / 2) / L1**2, likewise a2, b2 with 1 - y_via.
-    On a part y' = (L/pi)(1 - cos x)(a + b (1 + cos x)), x = pi t / L, which is > 0 inside iff
+    On the first part y' = (L1/pi)(1 - cos x)(a1 + b1 (1 + cos x)), x = pi t / L1, likewise on
+    the mirrored second part; y' > 0 inside both parts iff
     0 < V <= (8/3) min(y_via / L1, (1 - y_via) / L2): every via point strictly inside the unit
     square is reachable, any other raises.  V is then the minimiser of the peak |y''|, found
     with scipy.optimize.minimize_scalar; that peak is a maximum of |affine functions of V|,

@@ -9,7 +9,7 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 import numpy.typing as npt
@@ -190,8 +190,8 @@ def build_law(motion: MotionConfig, index: int) -> MotionLaw:
     return make_law(name, **params)
 
 
-def build_program(motion: MotionConfig) -> MotionProgram:
-    """Build the motion program; errors name the motion.* parameter and the segment index."""
+def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionProgram:
+    """Build the motion program; errors name the motion.* parameter (as written) and index."""
     segments = []
     for index in range(len(motion.laws)):
         try:
@@ -206,16 +206,29 @@ def build_program(motion: MotionConfig) -> MotionProgram:
     try:
         return MotionProgram(tuple(segments))
     except InvalidParameter as err:
-        match = re.fullmatch(r'segments\[(\d+)\]\.(\w+)', err.parameter)
-        if match and match.group(2) in SEGMENT_FIELDS:
-            raise InvalidParameter(f'{SEGMENT_FIELDS[match.group(2)]}[{match.group(1)}]',
-                                   err.value, err.rule) from err
-        raise InvalidParameter(f'motion ({err.parameter})', err.value, err.rule) from err
+        raise _in_config_terms(err, written) from err
+
+
+def _in_config_terms(err: InvalidParameter, written: Mapping[str, Any]) -> InvalidParameter:
+    """Restate a program error ('segments[2].end') with the config's names and values."""
+    def rename(match: re.Match) -> str:
+        field = SEGMENT_FIELDS.get(match.group(2))
+        return f'{field}[{match.group(1)}]' if field else match.group(0)
+
+    pattern = r'segments\[(\d+)\]\.(\w+)'
+    match = re.fullmatch(pattern, err.parameter)
+    if not match or match.group(2) not in SEGMENT_FIELDS:
+        return InvalidParameter(f'motion ({err.parameter})', err.value, err.rule)
+    field, index = SEGMENT_FIELDS[match.group(2)], int(match.group(1))
+    values = written.get(field)
+    value = values[index] if isinstance(values, (list, tuple)) else err.value
+    return InvalidParameter(f'{field}[{index}]', value,
+                            f'{re.sub(pattern, rename, err.rule)} [in SI: {err.value!r}]')
 
 
 def build_design(config: CamConfig) -> CamDesign:
     """Build and validate the whole design; raises InvalidParameter naming the parameter."""
-    program = build_program(config.motion)
+    program = build_program(config.motion, config.parameters)
     follower = build_follower(config)
     design = CamDesign(config, program, follower)
     design.geometry()  # the follower must be able to follow the motion everywhere

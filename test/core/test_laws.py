@@ -449,7 +449,7 @@ def test_make_law_rejects_unknown_and_missing_parameters():
         make_law('via_point', u_via=0.5)
 
 
-@pytest.mark.parametrize('bad', [-0.1, 1.0 + 1e-12, math.nan, math.inf])
+@pytest.mark.parametrize('bad', [-0.1, 1.0 + 1e-12, math.nan, math.inf, 'half'])
 def test_evaluate_rejects_u_outside_the_unit_interval(bad):
     with pytest.raises(InvalidParameter, match=r'^u = .*: must lie in \[0, 1\]'):
         Cycloidal().evaluate([0.5, bad])

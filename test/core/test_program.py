@@ -291,9 +291,12 @@ def test_time_derivatives_scale_with_the_cam_speed():
         values.at_speed(math.nan)
 
 
-def test_evaluate_rejects_non_finite_angles():
-    with pytest.raises(InvalidParameter, match=r'^theta = inf: must be finite'):
-        _seed_002_program().evaluate([0.0, math.inf])
+@pytest.mark.parametrize(('theta', 'shown'), [([0.0, math.inf], 'inf'), ([math.nan], 'nan'),
+                                              (['north'], "['north']")])
+def test_evaluate_rejects_non_finite_angles(theta, shown):
+    with pytest.raises(InvalidParameter) as caught:
+        _seed_002_program().evaluate(theta)
+    assert str(caught.value) == f'theta = {shown}: must be finite (rad)'
 
 
 def test_a_million_angles_evaluate_quickly():
@@ -349,6 +352,7 @@ def _replace(index, **changes):
 
 @pytest.mark.parametrize(('segments', 'parameter', 'rule'), [
     ([], 'segments', 'at least one segment'),
+    (7, 'segments', 'must be a sequence'),
     (_segments()[:3] + ['cycloidal'], 'segments[3]', 'must be a Segment'),
     (_replace(1, law='cycloidal'), 'segments[1].law', 'must be a MotionLaw'),
     (_replace(1, start=math.nan), 'segments[1].start', 'finite'),

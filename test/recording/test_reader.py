@@ -18,7 +18,7 @@ CHUNKED_COUNT = 40
 #: Bytes per chunk of the chunked recording: a few messages each.
 SMALL_CHUNK = 400
 #: Offsets between the cuts made into the chunked recording.
-CUT_STRIDE = 13
+CUT_STRIDE = 17
 #: Footer record: opcode, length, summary start, summary offset start, summary CRC.
 FOOTER = struct.Struct('<BQQQI')
 

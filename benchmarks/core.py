@@ -1,0 +1,155 @@
+"""
+Figures 1 and 2: the NumPy core against one np.sin over the same angles and a scalar loop.
+
+The scalar loop is a faithful per-sample implementation, with `math`, of the program of
+config/default.yaml (dwell, cycloidal, dwell, simple harmonic): the same modulo, segment search,
+clipping and scaling as MotionProgram.evaluate + ProgramValues.at_speed, one angle at a time.
+"""
+from __future__ import annotations
+
+import bisect
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from benchmarks.report import Figure, Target
+from benchmarks.timing import interleaved_medians
+from cam_ros.core import CamDesign
+from cam_ros.core.program import MotionProgram
+
+TWO_PI = 2.0 * math.pi
+#: The issue's targets: core <= 4 x np.sin at 10^6 angles, >= 50 x a Python loop at 10^5.
+CORE_TARGET = (10 ** 6, Target('<=', 4.0))
+LOOP_TARGET = (10 ** 5, Target('>=', 50.0))
+#: The scalar loop must agree with the core to this relative tolerance (else it is not faithful).
+LOOP_RTOL = 1e-9
+LOOP_ATOL = 1e-12
+
+ScalarLaw = Callable[[float], tuple[float, float, float, float]]
+Columns = tuple[list[float], list[float], list[float], list[float]]
+
+
+def dwell(u: float) -> tuple[float, float, float, float]:
+    """Return y, y', y'', y''' of a dwell."""
+    return 0.0, 0.0, 0.0, 0.0
+
+
+def cycloidal(u: float) -> tuple[float, float, float, float]:
+    """Return y, y', y'', y''' of the cycloidal law at u."""
+    sin, cos = math.sin(TWO_PI * u), math.cos(TWO_PI * u)
+    return u - sin / TWO_PI, 1.0 - cos, TWO_PI * sin, TWO_PI ** 2 * cos
+
+
+def simple_harmonic(u: float) -> tuple[float, float, float, float]:
+    """Return y, y', y'', y''' of the simple harmonic law at u."""
+    sin, cos = math.sin(math.pi * u), math.cos(math.pi * u)
+    return 0.5 * (1.0 - cos), 0.5 * math.pi * sin, 0.5 * math.pi ** 2 * cos, \
+        -0.5 * math.pi ** 3 * sin
+
+
+SCALAR_LAWS: dict[str, ScalarLaw] = {'dwell': dwell, 'cycloidal': cycloidal,
+                                     'simple_harmonic': simple_harmonic}
+
+
+def scalar_program(program: MotionProgram, omega: float) -> Callable[[Sequence[float]], Columns]:
+    """Return a per-sample Python evaluation of program at cam speed omega (rad/s)."""
+    start = program.start
+    pieces = [(segment.start - start, segment.span, segment.s_start, segment.stroke,
+               SCALAR_LAWS[segment.law.name]) for segment in program.segments]
+    offsets = [piece[0] for piece in pieces]
+
+    def evaluate(angles: Sequence[float]) -> Columns:
+        position: list[float] = []
+        velocity: list[float] = []
+        acceleration: list[float] = []
+        jerk: list[float] = []
+        for theta in angles:
+            if not math.isfinite(theta):
+                raise ValueError(f'theta = {theta!r}: must be finite (rad)')
+            local = (theta - start) % TWO_PI
+            offset, span, s_start, stroke, law = pieces[bisect.bisect_right(offsets, local) - 1]
+            y, y1, y2, y3 = law(min(max((local - offset) / span, 0.0), 1.0))
+            rate = omega / span
+            position.append(s_start + stroke * y)
+            velocity.append(stroke * rate * y1)
+            acceleration.append(stroke * rate * rate * y2)
+            jerk.append(stroke * rate * rate * rate * y3)
+        return position, velocity, acceleration, jerk
+
+    return evaluate
+
+
+def angles(count: int) -> np.ndarray:
+    """Return count equally spaced cam angles over one revolution (rad)."""
+    return np.linspace(0.0, TWO_PI, count, endpoint=False)
+
+
+def vectorised(design: CamDesign, theta: np.ndarray) -> Callable[[], object]:
+    """Return the measured core call: program values at theta, then at the cam speed."""
+    program, omega = design.program, design.config.cam_speed
+    return lambda: program.evaluate(theta).at_speed(omega)
+
+
+def check_scalar_loop(design: CamDesign, theta: np.ndarray) -> None:
+    """Raise AssertionError unless the scalar loop reproduces the core at theta."""
+    timed = design.program.evaluate(theta).at_speed(design.config.cam_speed)
+    columns = scalar_program(design.program, design.config.cam_speed)(theta.tolist())
+    for name, column in zip(('position', 'velocity', 'acceleration', 'jerk'), columns):
+        np.testing.assert_allclose(column, getattr(timed, name), rtol=LOOP_RTOL, atol=LOOP_ATOL,
+                                   err_msg=f'scalar loop {name}')
+
+
+def target_at(count: int, target: tuple[int, Target]) -> Target | None:
+    """Return the target if the issue sets it at this count."""
+    return target[1] if count == target[0] else None
+
+
+def core_figures(design: CamDesign, counts: Sequence[int], repeats: int) -> list[Figure]:
+    """Figure 1: ns per sample of the core at each count, against np.sin over the same array."""
+    figures = []
+    for count in counts:
+        theta = angles(count)
+        times = interleaved_medians({'sin': lambda: np.sin(theta),
+                                     'core': vectorised(design, theta)}, repeats)
+        figures.append(Figure(
+            f'core_evaluation_{count}', f'Core s, v, a, jerk; N = {count:,}',
+            times['core'] / count, 'ns/sample', 'np.sin', times['sin'] / count,
+            target_at(count, CORE_TARGET),
+            'MotionProgram.evaluate + ProgramValues.at_speed, 4-segment default program, '
+            'equally spaced angles; median of interleaved repeats after warm-up.'
+            if count == counts[0] else ''))
+    return figures
+
+
+def loop_figure(design: CamDesign, count: int, repeats: int) -> Figure:
+    """Figure 1b: speed-up of the core over the per-sample Python loop at count angles."""
+    theta = angles(count)
+    check_scalar_loop(design, theta)
+    values = theta.tolist()
+    loop = scalar_program(design.program, design.config.cam_speed)
+    times = interleaved_medians({'core': vectorised(design, theta),
+                                 'loop': lambda: loop(values)}, repeats)
+    return Figure(
+        f'speedup_over_python_loop_{count}', f'Core vs per-sample Python loop; N = {count:,}',
+        times['core'] / count, 'ns/sample', 'Python loop (math)', times['loop'] / count,
+        target_at(count, LOOP_TARGET),
+        f'Ratio = loop time / core time (a speed-up). The loop (benchmarks/core.py) runs on all '
+        f'{count:,} angles, given as a Python list, and is checked to match the core '
+        f'(rtol {LOOP_RTOL:g}).', inverse=True)
+
+
+def geometry_figures(design: CamDesign, count: int, repeats: int) -> list[Figure]:
+    """Figure 2: full evaluation and geometry at count angles, against np.sin over them."""
+    theta = angles(count)
+    times = interleaved_medians({'sin': lambda: np.sin(theta),
+                                 'evaluate': lambda: design.evaluate(theta),
+                                 'geometry': lambda: design.geometry(count)}, repeats)
+    return [
+        Figure('design_evaluate_ms', f'CamDesign.evaluate (motion + geometry); N = {count:,}',
+               times['evaluate'] * 1e-6, 'ms', 'np.sin', times['sin'] * 1e-6,
+               note='Position to jerk, pressure angle and radius of curvature.'),
+        Figure('design_geometry_ms', f'CamDesign.geometry({count})',
+               times['geometry'] * 1e-6, 'ms', 'np.sin', times['sin'] * 1e-6,
+               note='Pitch curve, surface, pressure angle, radius of curvature.'),
+    ]

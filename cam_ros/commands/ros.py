@@ -1,0 +1,205 @@
+"""ROS commands: call a cam node's evaluate service, echo any topic of the graph.
+
+Each command runs in its own rclpy context (no signal handlers installed, so Ctrl-C is a plain
+KeyboardInterrupt) and shuts it down before returning.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+import sys
+import time
+from contextlib import contextmanager
+from typing import Any, Iterator, Sequence
+
+import numpy as np
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+from cam_ros.commands.common import dump_json, format_table, number, say
+from cam_ros.commands.message_text import message_text, numeric_fields
+from cam_ros.core import InvalidParameter
+
+DEFAULT_SERVICE = '/cam/evaluate'
+DEFAULT_TIMEOUT_S = 5.0
+UNIT_QUERY_TIMEOUT_S = 1.0  # most time spent asking the node for its follower type
+POLL_S = 0.05  # spin slice of the echo loop
+ECHO_DEPTH = 10
+CALL_FIELDS = ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
+               'radius_of_curvature')
+
+
+@contextmanager
+def ros_node(kind: str) -> Iterator[tuple[Node, SingleThreadedExecutor]]:
+    """Yield a node 'cam_ros_<kind>_<pid>' and an executor in a private context."""
+    context = Context()
+    rclpy.init(args=[], context=context)
+    try:
+        node = rclpy.create_node(f'cam_ros_{kind}_{os.getpid()}', context=context,
+                                 start_parameter_services=False)
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(node)
+        try:
+            yield node, executor
+        finally:
+            executor.shutdown()
+            node.destroy_node()
+    finally:
+        rclpy.try_shutdown(context=context)
+
+
+def _remaining(deadline: float) -> float:
+    return max(0.0, deadline - time.monotonic())
+
+
+def _request(node: Node, executor: SingleThreadedExecutor, service_type: Any, name: str,
+             request: Any, deadline: float) -> tuple[Any, str]:
+    """Call a service once before the deadline; return (response or None, why it failed)."""
+    client = node.create_client(service_type, name)
+    try:
+        if not client.wait_for_service(timeout_sec=_remaining(deadline)):
+            return None, f'service {client.srv_name} is not available'
+        future = client.call_async(request)
+        executor.spin_until_future_complete(future, timeout_sec=_remaining(deadline))
+        if not future.done():
+            client.remove_pending_request(future)
+            return None, f'service {client.srv_name} did not answer'
+        return future.result(), ''
+    finally:
+        node.destroy_client(client)
+
+
+def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
+                   deadline: float) -> str:
+    """Ask the serving node for its follower type: 'm' (translating), 'rad' (oscillating)."""
+    from rcl_interfaces.srv import GetParameters
+
+    node_name = node.resolve_service_name(service).rpartition('/')[0]
+    if not node_name:
+        return 'm|rad'
+    short = min(deadline, time.monotonic() + UNIT_QUERY_TIMEOUT_S)
+    response, _ = _request(node, executor, GetParameters, f'{node_name}/get_parameters',
+                           GetParameters.Request(names=['follower.type']), short)
+    if response is None or not response.values:
+        return 'm|rad'
+    return 'rad' if response.values[0].string_value.startswith('oscillating') else 'm'
+
+
+def _call_units(unit: str) -> dict[str, str]:
+    return {'angle': 'rad', 'position': unit, 'velocity': f'{unit}/s',
+            'acceleration': f'{unit}/s^2', 'jerk': f'{unit}/s^3', 'pressure_angle': 'rad',
+            'radius_of_curvature': 'm'}
+
+
+def call(angles: Sequence[float], degrees: bool = False, json_output: bool = False,
+         service: str = DEFAULT_SERVICE, timeout: float = DEFAULT_TIMEOUT_S) -> int:
+    """Evaluate the served cam at angles (rad, or deg) and print the answer; 1 on failure."""
+    from cam_ros_interfaces.srv import EvaluateCam
+
+    values = np.radians(angles) if degrees else np.asarray(angles, dtype=float)
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise InvalidParameter('ANGLE', list(angles), 'give one or more finite cam angles')
+    deadline = time.monotonic() + timeout
+    with ros_node('call') as (node, executor):
+        response, problem = _request(node, executor, EvaluateCam, service,
+                                     EvaluateCam.Request(angles=values.tolist()), deadline)
+        if response is None:
+            say('call', f'{problem} within {timeout:g} s')
+            return 1
+        unit = _position_unit(node, executor, service, deadline) if response.success else ''
+    if not response.success:
+        say('call', f'{service} refused: {response.message}')
+        return 1
+    columns = {'angle': values, **{name: np.asarray(getattr(response, name))
+                                   for name in CALL_FIELDS}}
+    units = _call_units(unit)
+    if json_output:
+        print(dump_json({'service': service, 'units': units, **columns}))
+        return 0
+    headers = ['angle (deg)', 'angle (rad)'] + [
+        f'{name.replace("_", " ")} ({"deg" if name == "pressure_angle" else units[name]})'
+        for name in CALL_FIELDS]
+    rows = [[f'{math.degrees(row[0]):.4f}', number(row[0])]
+            + [number(value) for value in row[1:-2]]
+            + [f'{math.degrees(row[-2]):.4f}', number(row[-1])]
+            for row in np.column_stack(list(columns.values())).tolist()]
+    print(format_table(headers, rows))
+    return 0
+
+
+# ------------------------------------------------------------------------------------ echo
+
+def subscription_qos(publishers: Sequence[Any]) -> QoSProfile:
+    """Return a QoS that matches every publisher: latched only if all publishers are latched."""
+    profiles = [info.qos_profile for info in publishers]
+    latched = bool(profiles) and all(
+        p.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in profiles)
+    best_effort = any(p.reliability == ReliabilityPolicy.BEST_EFFORT for p in profiles)
+    return QoSProfile(
+        depth=ECHO_DEPTH,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE,
+        reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE)
+
+
+def _wait_for_topic(node: Node, name: str, deadline: float) -> list[str] | None:
+    """Return the types of topic name once it has a publisher, None at the deadline."""
+    while not node.get_publishers_info_by_topic(name):
+        if time.monotonic() >= deadline:
+            return None
+        time.sleep(POLL_S)
+    return [info.topic_type for info in node.get_publishers_info_by_topic(name)]
+
+
+class _Printer:
+    """Print each message as YAML-like text ('---' after each) or as a CSV row."""
+
+    def __init__(self, csv_output: bool):
+        self.count = 0
+        self._writer = csv.writer(sys.stdout, lineterminator='\n') if csv_output else None
+
+    def __call__(self, message: Any) -> None:
+        if self._writer is None:
+            print(message_text(message), '---', sep='\n', flush=True)
+        else:
+            fields = list(numeric_fields(message))
+            if self.count == 0:
+                self._writer.writerow(name for name, _ in fields)
+            self._writer.writerow(value for _, value in fields)
+            sys.stdout.flush()
+        self.count += 1
+
+
+def echo(topic: str, once: bool = False, csv_output: bool = False, count: int | None = None,
+         timeout: float | None = None) -> int:
+    """Print messages of a topic as they arrive; 1 if it or the messages asked for never came."""
+    from cam_ros.recording.schema import import_type
+
+    name = topic if topic.startswith('/') else f'/{topic}'
+    wanted = 1 if once else count
+    deadline = math.inf if timeout is None else time.monotonic() + timeout
+    printer = _Printer(csv_output)
+    with ros_node('echo') as (node, executor):
+        types = _wait_for_topic(node, name, deadline)
+        if types is None:
+            say('echo', f'no publisher of {name} within {timeout:g} s')
+            return 1
+        if len(set(types)) != 1:
+            raise InvalidParameter('TOPIC', name, f'has several types ({", ".join(types)})')
+        qos = subscription_qos(node.get_publishers_info_by_topic(name))
+        node.create_subscription(import_type(types[0]), name, printer, qos)
+        try:
+            while (wanted is None or printer.count < wanted) and time.monotonic() < deadline:
+                executor.spin_once(timeout_sec=min(POLL_S, _remaining(deadline)))
+        except KeyboardInterrupt:
+            return 0
+    if wanted is not None and printer.count < wanted:
+        say('echo', f'{printer.count} of {wanted} messages on {name} within {timeout:g} s')
+        return 1
+    if printer.count == 0:
+        say('echo', f'no message on {name} within {timeout:g} s')
+        return 1
+    return 0
