@@ -20,7 +20,7 @@ from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Point, Vector3Stamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 ParameterType, SetParametersResult)
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -99,9 +99,6 @@ class CamNode(Node):
         self._markers_pub = self.create_publisher(MarkerArray, '~/markers', LATCHED)
         self._joint_pub = self.create_publisher(JointState, '~/joint_states', STATE_QOS)
         self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
-        self.create_service(EvaluateCam, '~/evaluate', self._evaluate)
-        self.create_service(Trigger, '~/reload', self._reload)
-        self.create_service(SetBool, '~/record', self._record)
         self._start_ns = self.get_clock().now().nanoseconds
         self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
                                               self._publish_state)
@@ -110,6 +107,10 @@ class CamNode(Node):
             self._set_recording(True)
         self._publish_design()
         self._log_design()
+        # Services last: once ~/evaluate is visible the node is fully built.
+        self.create_service(Trigger, '~/reload', self._reload)
+        self.create_service(SetBool, '~/record', self._record)
+        self.create_service(EvaluateCam, '~/evaluate', self._evaluate)
         name = self.get_fully_qualified_name()
         self.get_logger().info(
             f'serving {name}/evaluate; topics {name}/profile, pressure_angle, markers '
@@ -304,20 +305,24 @@ def main(args: Sequence[str] | None = None) -> int:
         params_file = default_config_path()
         argv += ['--ros-args', '--params-file', str(params_file)]
     rclpy.init(args=argv)
+    executor = SingleThreadedExecutor()  # made first, so a signal never lands inside its set-up
+    node = None
+    code = 0
     try:
         node = CamNode(params_file)
+        executor.add_node(node)
+        executor.spin()
     except CamError as err:
         print(f'cam_node: invalid design in {params_file}: {err}', file=sys.stderr)
-        rclpy.try_shutdown()
-        return 2
-    try:
-        rclpy.spin(node)
+        code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        node.destroy_node()
+        executor.shutdown()
+        if node is not None:
+            node.destroy_node()
         rclpy.try_shutdown()
-    return 0
+    return code
 
 
 if __name__ == '__main__':

@@ -17,7 +17,8 @@ from cam_ros.core.report import position_unit
 
 PLOT_SAMPLES = 3601  # points of the S-V-A-J curves over 0..360 deg
 DRAW_SAMPLES = 1440  # points of the cam curves
-TANGENT_STEP = 1e-6  # rad: half-step of the finite difference giving a flat face's direction
+FACE_OFFSET_TINY = 1e-12  # m: a contact this close to a flat face's reference point gives no sense
+FACE_MARGIN = 0.1  # the face is drawn this fraction of its needed length longer at each end
 MM_PER_M = 1000.0
 FORMATS = ('.png', '.svg')
 DPI = 120
@@ -58,37 +59,51 @@ def _diagrams(design: CamDesign, axes: list, angle: float) -> None:
     axes[0].set_title(f'S-V-A-J at {design.config.cam_speed:g} rad/s: {laws}', fontsize=10)
 
 
+def _face_direction(design: CamDesign, reference: np.ndarray, contact: np.ndarray,
+                    offset: float) -> tuple[np.ndarray, bool]:
+    """Return the unit vector e along a flat face with contact = reference + offset e (mm).
+
+    The second value is False when only the face's line, not the sense of e, is known.
+    """
+    sigma = -1.0 if design.clockwise else 1.0
+    if isinstance(design.follower, TranslatingFlat):
+        return np.array([sigma, 0.0]), True
+    if abs(offset) > FACE_OFFSET_TINY:
+        return (contact - reference) / (offset * MM_PER_M), True
+    arm = reference - np.array([0.0, design.follower.pivot_distance * MM_PER_M])
+    return np.array([-arm[1], arm[0]]) / np.hypot(*arm), False
+
+
 def _follower_lines(design: CamDesign, angle: float, turn: np.ndarray) -> dict:
     """Return the follower's drawing at cam angle (rad) in the fixed frame, in mm."""
     follower = design.follower
-    theta = angle + np.array([-TANGENT_STEP, 0.0, TANGENT_STEP])
+    theta = np.array([angle])
     motion = design.program.evaluate(theta)
     shape = cam_geometry(follower, theta, motion.s, motion.ds, motion.d2s,
                          clockwise=design.clockwise)
-    pitch = turn @ np.array([shape.pitch_x, shape.pitch_y]) * MM_PER_M
-    surface = turn @ np.array([shape.surface_x, shape.surface_y]) * MM_PER_M
-    reference, contact = pitch[:, 1], surface[:, 1]
+    reference = turn @ np.array([shape.pitch_x[0], shape.pitch_y[0]]) * MM_PER_M
+    contact = turn @ np.array([shape.surface_x[0], shape.surface_y[0]]) * MM_PER_M
     base = follower.base_radius * MM_PER_M
     lines: dict = {'contact': contact, 'reference': reference}
     if isinstance(follower, (TranslatingRoller, OscillatingRoller)):
         lines['roller'] = (reference, follower.roller_radius * MM_PER_M)
     else:
-        direction = surface[:, 2] - surface[:, 0]
-        direction /= np.hypot(*direction)
-        extent = 0.6 * base
-        offsets = design.check.face_min, design.check.face_max
-        if offsets[0] is not None and offsets[1] is not None:
-            extent = max(abs(offsets[0]), abs(offsets[1])) * MM_PER_M * 1.15 + 0.05 * base
-        lines['face'] = np.stack((reference - extent * direction,
-                                  reference + extent * direction), axis=1)
+        check = design.check
+        low, high = check.face_min or 0.0, check.face_max or 0.0
+        offset = 0.0 if shape.contact_offset is None else float(shape.contact_offset[0])
+        direction, sensed = _face_direction(design, reference, contact, offset)
+        if not sensed:
+            low, high = -max(abs(low), abs(high)), max(abs(low), abs(high))
+        margin = FACE_MARGIN * (high - low) + 0.05 * follower.base_radius  # m
+        lines['face'] = np.stack((reference + ((low - margin) * MM_PER_M) * direction,
+                                  reference + ((high + margin) * MM_PER_M) * direction), axis=1)
     if isinstance(follower, (OscillatingRoller, OscillatingFlat)):
         pivot = np.array([0.0, follower.pivot_distance * MM_PER_M])
         lines['arm'] = np.stack((pivot, reference), axis=1)
         lines['pivot'] = pivot
     else:
-        offset = follower.offset * MM_PER_M if isinstance(follower, TranslatingRoller) else 0.0
-        top = reference[1] + 0.8 * base
-        lines['stem'] = np.array([[offset, offset], [reference[1], top]])
+        offset_x = follower.offset * MM_PER_M if isinstance(follower, TranslatingRoller) else 0.0
+        lines['stem'] = np.array([[offset_x, offset_x], [reference[1], reference[1] + 0.8 * base]])
     return lines
 
 

@@ -71,16 +71,30 @@ def dump_json(data: Any) -> str:
     return json.dumps(plain(data), indent=2, allow_nan=False)
 
 
+def _numeric(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
 def format_table(headers: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
-    """Return rows of strings as columns: first column left-aligned, others right-aligned."""
-    widths = [max(len(str(cell)) for cell in column) for column in zip(headers, *rows)]
+    """Return rows of strings as columns: numbers right-aligned, text left-aligned."""
+    columns = list(zip(headers, *rows))
+    widths = [max(len(cell) for cell in column) for column in columns]
+    right = [bool(rows) and all(_numeric(cell) for cell in column[1:]) for column in columns]
 
     def line(cells: Sequence[str]) -> str:
-        parts = [f'{cell:<{width}}' if index == 0 else f'{cell:>{width}}'
-                 for index, (cell, width) in enumerate(zip(cells, widths))]
-        return '  '.join(parts).rstrip()
+        return '  '.join(f'{cell:>{width}}' if align else f'{cell:<{width}}'
+                         for cell, width, align in zip(cells, widths, right)).rstrip()
 
     return '\n'.join([line(headers), *(line(row) for row in rows)])
+
+
+def degrees(angle: float) -> float:
+    """Return an angle (rad) in degrees, rounded to 1e-9 deg so that 240 prints as 240.0."""
+    return round(math.degrees(angle), 9)
 
 
 def number(value: float, digits: int = 6) -> str:

@@ -9,12 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from cam_ros.commands.common import (dump_json, end_progress, format_table, load_design, number,
+from cam_ros.commands.common import (degrees, dump_json, end_progress, format_table, load_design, number,
                                      output_path, progress, verdict, write_error)
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
-ORDER_NAMES = ('position', 'velocity', 'acceleration', 'jerk')
+ORDER_NAMES = ('s', 'ds/dtheta', 'd2s/dtheta2', 'd3s/dtheta3')  # derivatives per rad of cam
 #: The arrays of `cam_ros sample`, in output order: (name, CamState field, unit; {p} = m or rad).
 SAMPLE_FIELDS = (
     ('angle', 'angle', 'rad'),
@@ -47,29 +47,29 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'rotation': 'clockwise' if cfg.clockwise else 'counterclockwise',
         'cam_speed': cfg.cam_speed,
         'position_unit': unit,
-        'limits': {'pressure_angle_deg': math.degrees(cfg.pressure_angle_limit),
+        'limits': {'pressure_angle_deg': degrees(cfg.pressure_angle_limit),
                    'min_radius_of_curvature': cfg.min_radius_of_curvature},
-        'pressure_angle_max_deg': math.degrees(report.pressure_angle_max),
-        'pressure_angle_max_at_deg': math.degrees(report.pressure_angle_max_at),
-        'pressure_angle_min_deg': math.degrees(report.pressure_angle_min),
-        'pressure_angle_min_at_deg': math.degrees(report.pressure_angle_min_at),
+        'pressure_angle_max_deg': degrees(report.pressure_angle_max),
+        'pressure_angle_max_at_deg': degrees(report.pressure_angle_max_at),
+        'pressure_angle_min_deg': degrees(report.pressure_angle_min),
+        'pressure_angle_min_at_deg': degrees(report.pressure_angle_min_at),
         'pressure_angle_ok': design.check.pressure_angle_ok,
         'radius_of_curvature_min': report.radius_of_curvature_min,
-        'radius_of_curvature_min_at_deg': math.degrees(report.radius_of_curvature_min_at),
+        'radius_of_curvature_min_at_deg': degrees(report.radius_of_curvature_min_at),
         'radius_of_curvature_ok': design.check.radius_ok,
         'undercut': report.undercut,
-        'cusp_angles_deg': [math.degrees(angle) for angle in report.cusp_angles],
+        'cusp_angles_deg': [degrees(angle) for angle in report.cusp_angles],
         'min_base_radius': report.min_base_radius,
         'min_base_radius_governing': report.min_base_radius_governing,
         'face_width': None if report.face_range is None else list(report.face_range),
         'segments': [{
-            'index': s.index, 'law': s.law, 'start_deg': math.degrees(s.start),
-            'end_deg': math.degrees(s.end), 'start_position': s.s_start,
+            'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
+            'end_deg': degrees(s.end), 'start_position': s.s_start,
             'end_position': s.s_end, 'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
             'peak_velocity': s.peak_velocity, 'peak_acceleration': s.peak_acceleration,
             'peak_jerk': s.peak_jerk} for s in report.segments],
         'continuity': [{
-            'angle_deg': math.degrees(jump.angle), 'order': jump.order,
+            'angle_deg': degrees(jump.angle), 'order': jump.order,
             'derivative': ORDER_NAMES[jump.order], 'jump': jump.jump, 'left': jump.left,
             'right': jump.right, 'unit': f'{unit}/rad^{jump.order}' if jump.order else unit,
             'segment': jump.segment} for jump in report.continuity],
@@ -86,9 +86,9 @@ def _limit_state(ok: bool | None) -> str:
 
 def _follower_line(design: CamDesign) -> str:
     """Describe the follower and its lengths in one line."""
-    fields = ', '.join(f'{name.replace("_", " ")} {number(value)} m'
-                       if isinstance(value, float) else f'{name.replace("_", " ")} {value}'
-                       for name, value in vars(design.follower).items())
+    fields = ', '.join(f'{name.replace("_", " ")} ' + (
+        ('yes' if value else 'no') if isinstance(value, bool) else f'{number(value)} m')
+        for name, value in vars(design.follower).items())
     return f'{design.config.follower.type.replace("_", " ")}: {fields}'
 
 
@@ -110,7 +110,7 @@ def _continuity_table(report: DesignReport) -> str:
     rows = [(f'{math.degrees(j.angle):.2f}', ORDER_NAMES[j.order], number(j.left),
              number(j.right), f'{j.jump:+.6g}', f'{unit}/rad^{j.order}' if j.order else unit)
             for j in report.continuity]
-    table = format_table(('at deg', 'derivative', 'left', 'right', 'jump', 'per'), rows)
+    table = format_table(('at deg', 'of', 'left', 'right', 'jump', 'unit'), rows)
     return '\n'.join('  ' + line for line in table.splitlines())
 
 
@@ -129,12 +129,12 @@ def format_report(report: DesignReport, config: str) -> str:
         ('Pressure angle', f'max {math.degrees(report.pressure_angle_max):.2f} deg at '
                            f'{math.degrees(report.pressure_angle_max_at):.1f} deg, min '
                            f'{math.degrees(report.pressure_angle_min):.2f} deg at '
-                           f'{math.degrees(report.pressure_angle_min_at):.1f} deg; limit '
-                           f'|angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
-        ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m (convex parts) '
-                                f'at {math.degrees(report.radius_of_curvature_min_at):.1f} deg; '
-                                f'limit >= {number(cfg.min_radius_of_curvature)} m: '
-                                f'{_limit_state(check.radius_ok)}'),
+                           f'{math.degrees(report.pressure_angle_min_at):.1f} deg'),
+        ('', f'limit |pressure angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
+        ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m '
+                                f'at {math.degrees(report.radius_of_curvature_min_at):.1f} deg'),
+        ('', f'limit >= {number(cfg.min_radius_of_curvature)} m: '
+             f'{_limit_state(check.radius_ok)}'),
         ('Undercut', 'YES, cusps at ' + ', '.join(
             f'{math.degrees(a):.1f}' for a in report.cusp_angles) + ' deg'
             if report.undercut else 'none'),
@@ -149,11 +149,12 @@ def format_report(report: DesignReport, config: str) -> str:
                                    f'face: at least {number(high - low)} m long'))
     estimate = report.quick_estimate
     if estimate is not None:
-        rows.append(('Quick estimate', f'seed 002 from segment {estimate.segment} without offset:'
-                                       f' R = {number(estimate.estimate.mean_radius)} m, base '
-                                       f'radius {number(estimate.base_radius)} m, size index '
-                                       f'R/h = {estimate.estimate.size_index:.3g}'
-                                       + (' (big cam)' if estimate.estimate.big_cam else '')))
+        rows.append(('Quick estimate', f'seed 002, steepest rise (segment {estimate.segment}), '
+                                       'no offset:'))
+        rows.append(('', f'R = {number(estimate.estimate.mean_radius)} m, base radius '
+                         f'{number(estimate.base_radius)} m, size index R/h = '
+                         f'{estimate.estimate.size_index:.3g}'
+                         + (' (big cam)' if estimate.estimate.big_cam else '')))
     width = max(len(label) for label, _ in rows) + 2
     lines = [f'cam_ros report: {config}', '']
     lines += [f'{label:<{width}}{text}' for label, text in rows]

@@ -5,15 +5,18 @@ Nothing here imports ROS; the node and the CLI are thin shells around these name
 from .config import CamConfig, PARAMETERS, load_config, parse_parameters, read_parameters_file
 from .design import CamDesign, CamState, build_design, check_angles
 from .errors import CamError, InvalidParameter, RecordingError
-from .geometry import (CamGeometry, GeometryCheck, OscillatingFlat, OscillatingRoller,
+from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
                        TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry)
-from .laws import LAWS, MotionLaw, make_law
-from .program import MotionProgram, Segment
+from .laws import LAWS, LawValues, MotionLaw, make_law
+from .program import Discontinuity, MotionProgram, ProgramValues, Segment
+from .sizing import BaseRadiusEstimate, BaseRadiusSizing, estimate_base_radius, size_base_radius
 
 __all__ = [
-    'CamConfig', 'CamDesign', 'CamError', 'CamGeometry', 'CamState', 'GeometryCheck',
-    'InvalidParameter', 'LAWS', 'MotionLaw', 'MotionProgram', 'OscillatingFlat',
-    'OscillatingRoller', 'PARAMETERS', 'RecordingError', 'Segment', 'TranslatingFlat',
+    'BaseRadiusEstimate', 'BaseRadiusSizing', 'CamConfig', 'CamDesign', 'CamError',
+    'CamGeometry', 'CamState', 'Discontinuity', 'Follower', 'GeometryCheck', 'InvalidParameter',
+    'LAWS', 'LawValues', 'MotionLaw', 'MotionProgram', 'OscillatingFlat', 'OscillatingRoller',
+    'PARAMETERS', 'ProgramValues', 'RecordingError', 'Segment', 'TranslatingFlat',
     'TranslatingRoller', 'build_design', 'cam_geometry', 'check_angles', 'check_geometry',
-    'load_config', 'make_law', 'parse_parameters', 'read_parameters_file',
+    'estimate_base_radius', 'load_config', 'make_law', 'parse_parameters', 'read_parameters_file',
+    'size_base_radius',
 ]

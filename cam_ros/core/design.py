@@ -16,12 +16,11 @@ import numpy.typing as npt
 
 from .config import CamConfig, MotionConfig
 from .errors import InvalidParameter
-from .geometry import (CamGeometry, GeometryCheck, OscillatingFlat, OscillatingRoller,
+from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
                        TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry)
 from .laws import MotionLaw, make_law
 from .program import MotionProgram, Segment
 
-Follower = TranslatingRoller | TranslatingFlat | OscillatingRoller | OscillatingFlat
 TWO_PI = 2.0 * math.pi
 #: Samples per revolution for the design checks (pressure angle, curvature, undercut).
 CHECK_SAMPLES = 7200

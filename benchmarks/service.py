@@ -1,0 +1,161 @@
+"""
+Figures 3, 5 and 6: the /cam/evaluate service, node start-up and node memory.
+
+cam_node and the trivial SetBool server (the reference) run as subprocesses; the benchmark process
+is the client. Latencies are wall-clock round trips of `Client.call()` from the main thread while
+a SingleThreadedExecutor spins the client node in a background thread, the two services called in
+alternating blocks so that drift on a shared machine hits both alike.
+"""
+from __future__ import annotations
+
+import array
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from cam_ros_interfaces.srv import EvaluateCam
+from rclpy.client import Client
+from std_srvs.srv import SetBool
+
+from benchmarks.core import angles
+from benchmarks.report import Figure, Target
+from benchmarks.ros import RosGraph, ServerProcess
+from benchmarks.timing import percentile_ms
+
+#: The issue's target: a 1-angle evaluate call at most 1.3 x a trivial service call (p50).
+P50_TARGET = Target('<=', 1.3)
+#: Longest wait for one service answer (s); the 10^6-angle batch takes about a second.
+CALL_TIMEOUT_S = 120.0
+MIB = 1024 * 1024
+
+
+@dataclass(frozen=True)
+class ServiceSizes:
+    """How much to measure: calls, batch sizes, repeats and start-up trials."""
+
+    calls: int = 2000
+    warmup_calls: int = 200
+    block: int = 250
+    batch: int = 10 ** 4
+    batch_repeats: int = 20
+    big_batch: int = 10 ** 6
+    big_batch_repeats: int = 2
+    startup_trials: int = 3
+
+
+@dataclass
+class Server:
+    """A started server process, a client of its service and a request to send it."""
+
+    process: ServerProcess
+    client: Client
+    request: Any
+
+
+def call(server: Server, request: Any = None) -> int:
+    """Call the service once; return the round trip in ns (raise on timeout or failure)."""
+    start = time.perf_counter_ns()
+    response = server.client.call(server.request if request is None else request,
+                                  timeout_sec=CALL_TIMEOUT_S)
+    elapsed = time.perf_counter_ns() - start
+    if response is None or not response.success:
+        raise RuntimeError(f'{server.client.srv_name} failed: {response}\n{server.process.log()}')
+    return elapsed
+
+
+def start_server(graph: RosGraph, kind: str, trial: int) -> tuple[Server, float]:
+    """Start cam_node or the SetBool server; return it and seconds until its service is seen."""
+    name = f'{kind}_{trial}'
+    if kind == 'cam':
+        client = graph.client_node.create_client(EvaluateCam, f'/{name}/evaluate')
+        request: Any = EvaluateCam.Request(angles=array.array('d', [1.0]))
+        launch: Callable[[str], ServerProcess] = graph.start_cam_node
+    else:
+        client = graph.client_node.create_client(SetBool, f'/{name}/set_bool')
+        request = SetBool.Request(data=True)
+        launch = graph.start_setbool_server
+    start = time.perf_counter()
+    process = launch(name)
+    graph.wait_for_service(client, process)
+    return Server(process, client, request), time.perf_counter() - start
+
+
+def startup(graph: RosGraph, trials: int) -> tuple[dict[str, Server], Figure]:
+    """Figure 5: start each server `trials` times; keep the last pair running for the rest."""
+    seconds: dict[str, list[float]] = {'cam': [], 'setbool': []}
+    servers: dict[str, Server] = {}
+    for trial in range(trials):
+        for kind in seconds:
+            server, elapsed = start_server(graph, kind, trial)
+            seconds[kind].append(elapsed)
+            if trial < trials - 1:
+                server.process.stop()
+                graph.client_node.destroy_client(server.client)
+            servers[kind] = server
+    figure = Figure(
+        'startup_s', 'Node start-up to service available', statistics.median(seconds['cam']),
+        's', 'SetBool server', statistics.median(seconds['setbool']),
+        note=f'From Popen of `python -m cam_ros.node` (default config) until the client sees '
+             f'/<node>/evaluate; reference: benchmarks/setbool_server.py (bare rclpy node, one '
+             f'SetBool service) until /<node>/set_bool is seen. Median of {trials} starts each.',
+        extra={'cam_node_s': seconds['cam'], 'setbool_s': seconds['setbool']})
+    return servers, figure
+
+
+def latencies(servers: dict[str, Server], sizes: ServiceSizes) -> dict[str, list[int]]:
+    """Warm both services up, then call them in alternating blocks; return ns per call."""
+    for server in servers.values():
+        for _ in range(sizes.warmup_calls):
+            call(server)
+    samples: dict[str, list[int]] = {kind: [] for kind in servers}
+    while len(samples['cam']) < sizes.calls:
+        for kind, server in servers.items():
+            samples[kind].extend(call(server) for _ in range(sizes.block))
+    return samples
+
+
+def batch_ms(server: Server, count: int, repeats: int) -> float:
+    """Return the median ms of an evaluate call carrying count angles (after one warm-up)."""
+    request = EvaluateCam.Request(angles=array.array('d', angles(count).tobytes()))
+    call(server, request)
+    return statistics.median(call(server, request) for _ in range(repeats)) * 1e-6
+
+
+def service_figures(graph: RosGraph, sizes: ServiceSizes) -> list[Figure]:
+    """Figures 3, 5 and 6, in the order they are measured (start-up first)."""
+    servers, startup_figure = startup(graph, sizes.startup_trials)
+    samples = latencies(servers, sizes)
+    p50 = {kind: percentile_ms(values, 50) for kind, values in samples.items()}
+    p99 = {kind: percentile_ms(values, 99) for kind, values in samples.items()}
+    cam = servers['cam']
+    batch = batch_ms(cam, sizes.batch, sizes.batch_repeats)
+    serving_rss = cam.process.peak_rss_bytes() / MIB
+    setbool_rss = servers['setbool'].process.peak_rss_bytes() / MIB
+    big = batch_ms(cam, sizes.big_batch, sizes.big_batch_repeats)
+    big_rss = cam.process.peak_rss_bytes() / MIB
+    calls = len(samples['cam'])
+    how = (f'{calls} calls each after {sizes.warmup_calls} warm-up calls, alternating blocks of '
+           f'{sizes.block}; client and servers in separate processes.')
+    return [
+        Figure('service_p50_ms', '/cam/evaluate, 1 angle, p50', p50['cam'], 'ms',
+               'SetBool p50', p50['setbool'], P50_TARGET, how,
+               extra={'calls': calls}),
+        Figure('service_p99_ms', '/cam/evaluate, 1 angle, p99', p99['cam'], 'ms',
+               'SetBool p99', p99['setbool']),
+        Figure(f'batch_{sizes.batch}_ms', f'/cam/evaluate, {sizes.batch:,} angles', batch, 'ms',
+               '1-angle p50', p50['cam'],
+               note=f'Median of {sizes.batch_repeats} calls after one warm-up.'),
+        Figure(f'batch_{sizes.big_batch}_ms', f'/cam/evaluate, {sizes.big_batch:,} angles', big,
+               'ms', '1-angle p50', p50['cam'],
+               note=f'Median of {sizes.big_batch_repeats} calls after one warm-up.'),
+        startup_figure,
+        Figure('node_peak_rss_mib', 'cam_node peak RSS, serving', serving_rss, 'MiB',
+               'SetBool server', setbool_rss,
+               note=f'VmHWM from /proc/<pid>/status after the latency and {sizes.batch:,}-angle '
+                    'runs; reference: the SetBool server after its latency run.'),
+        Figure(f'node_peak_rss_batch_{sizes.big_batch}_mib',
+               f'cam_node peak RSS after {sizes.big_batch:,}-angle calls', big_rss, 'MiB',
+               'SetBool server', setbool_rss),
+    ]

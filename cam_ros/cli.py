@@ -1,0 +1,223 @@
+"""The `cam_ros` command line: all argument parsing, then one command function per subcommand.
+
+Commands live in cam_ros.commands and are imported only when run, so `cam_ros report` never
+loads rclpy or matplotlib. Every command returns its exit code:
+
+  0  ok
+  1  the design violates one of its limits (output is still written), or a ROS call failed
+  2  invalid input: config, arguments or file; one line 'cam_ros <command>: <message>' on stderr
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import math
+import os
+import sys
+from importlib.metadata import PackageNotFoundError, version
+from typing import Callable, NoReturn, Sequence
+
+from cam_ros.core import CamError
+
+EXIT_CODES = '''exit codes:
+  0  ok
+  1  the design violates one of its limits (pressure angle, radius of curvature, undercut;
+     the output is still written), or a ROS call / echo failed
+  2  invalid input (config, arguments, file): one line "cam_ros <command>: <message>" on stderr
+'''
+EXIT_INTERRUPTED = 130
+EXIT_BROKEN_PIPE = 141
+
+
+class UsageError(Exception):
+    """An argument error, reported as one line by main()."""
+
+    def __init__(self, prog: str, message: str):
+        super().__init__(message)
+        self.prog = prog
+        self.message = message
+
+
+class _Parser(argparse.ArgumentParser):
+    """ArgumentParser that raises UsageError instead of printing usage and exiting."""
+
+    def error(self, message: str) -> NoReturn:
+        """Raise the error so that main() prints it as one line."""
+        raise UsageError(self.prog, message)
+
+
+def _number(kind: Callable[[str], float], rule: str,
+            ok: Callable[[float], bool]) -> Callable[[str], float]:
+    """Return an argparse type converting with kind and checking ok, naming the rule."""
+    def convert(text: str) -> float:
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f'{text!r}: must be {rule}') from None
+        if not ok(value):
+            raise argparse.ArgumentTypeError(f'{text!r}: must be {rule}')
+        return value
+    return convert
+
+
+FINITE = _number(float, 'a finite number', math.isfinite)
+POSITIVE = _number(float, 'a finite number > 0', lambda x: math.isfinite(x) and x > 0.0)
+NON_NEGATIVE = _number(float, 'a finite number >= 0', lambda x: math.isfinite(x) and x >= 0.0)
+STEP_DEG = _number(float, 'a number in (0, 360]', lambda x: 0.0 < x <= 360.0)
+COUNT = _number(int, 'an integer >= 1', lambda x: x >= 1)
+SAMPLES = _number(int, 'an integer >= 3', lambda x: x >= 3)
+
+
+def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
+             description: str) -> argparse.ArgumentParser:
+    """Add a subcommand whose handler is the function target ('module:function')."""
+    parser = sub.add_parser(name, help=summary, description=f'{summary}. {description}',
+                            epilog=EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.set_defaults(handler=target)
+    return parser
+
+
+def _design_commands(sub: argparse._SubParsersAction) -> None:
+    config_help = 'cam config: a ROS 2 parameters file (e.g. config/default.yaml)'
+    parser = _command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
+                      'Pressure angle, radius of curvature, undercut, smallest base radius, '
+                      'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
+                      'discontinuities. SI units, angles in degrees.')
+    parser.add_argument('config', metavar='CONFIG', help=config_help)
+    parser.add_argument('--json', dest='json_output', action='store_true',
+                        help='print one JSON object instead of text')
+
+    parser = _command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
+                      'Arrays over one revolution from 0: angle (rad), position, velocity, '
+                      'acceleration, jerk (SI), their derivatives per rad of cam angle, '
+                      'pressure angle (rad) and radius of curvature (m).')
+    parser.add_argument('config', metavar='CONFIG', help=config_help)
+    parser.add_argument('--step-deg', type=STEP_DEG, default=1.0, metavar='D',
+                        help='cam angle step in degrees (default 1)')
+    form = parser.add_mutually_exclusive_group()
+    form.add_argument('--json', dest='json_output', action='store_true',
+                      help='print one JSON object of arrays (with units)')
+    form.add_argument('--csv', dest='csv_output', action='store_true',
+                      help='print CSV with units in the header')
+
+    parser = _command(sub, 'plot', 'cam_ros.commands.design:plot', 'Plot a cam design',
+                      'S-V-A-J diagrams over cam angle and a drawing of the cam (surface, '
+                      'pitch curve, base circle) with the follower at the chosen angle.')
+    parser.add_argument('config', metavar='CONFIG', help=config_help)
+    parser.add_argument('-o', '--output', required=True, metavar='FILE',
+                        help='image to write: .png or .svg')
+    parser.add_argument('--angle-deg', type=FINITE, default=0.0, metavar='A',
+                        help='cam angle at which the follower is drawn, deg (default 0)')
+
+    parser = _command(sub, 'export', 'cam_ros.commands.design:export',
+                      'Export the cam surface for manufacturing',
+                      'One closed curve in mm in the cam frame (cam centre at the origin): '
+                      'CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
+                      '(closed path).')
+    parser.add_argument('config', metavar='CONFIG', help=config_help)
+    parser.add_argument('-o', '--output', required=True, metavar='FILE',
+                        help='file to write: .csv, .dxf or .svg')
+    parser.add_argument('--samples', type=SAMPLES, default=None, metavar='N',
+                        help='points on the surface, equally spaced in cam angle '
+                             '(default 3600)')
+
+
+def _ros_commands(sub: argparse._SubParsersAction) -> None:
+    parser = _command(sub, 'call', 'cam_ros.commands.ros:call', 'Call a cam node',
+                      'Evaluate the served cam at cam angles through its EvaluateCam service '
+                      'and print position, velocity, acceleration, jerk, pressure angle and '
+                      'radius of curvature (SI; the table shows angles in degrees too).')
+    parser.add_argument('angles', nargs='+', type=FINITE, metavar='ANGLE',
+                        help='cam angles, rad (deg with --deg); any real value')
+    parser.add_argument('--deg', dest='degrees', action='store_true',
+                        help='the angles are in degrees')
+    parser.add_argument('--json', dest='json_output', action='store_true',
+                        help='print one JSON object of arrays (SI, with units)')
+    parser.add_argument('--service', default='/cam/evaluate', metavar='NAME',
+                        help='EvaluateCam service (default /cam/evaluate)')
+    parser.add_argument('--timeout', type=POSITIVE, default=5.0, metavar='S',
+                        help='seconds to wait for the service and its answer (default 5)')
+
+    parser = _command(sub, 'echo', 'cam_ros.commands.ros:echo', 'Print a topic',
+                      'Subscribe to any topic once it has a publisher (type and QoS from the '
+                      'graph; latched topics are received) and print each message YAML-like, '
+                      'or as CSV of its numeric fields.')
+    parser.add_argument('topic', metavar='TOPIC', help='topic name, e.g. /cam/joint_states')
+    parser.add_argument('--once', action='store_true', help='print one message and exit')
+    parser.add_argument('--count', type=COUNT, default=None, metavar='N',
+                        help='print N messages and exit')
+    parser.add_argument('--csv', dest='csv_output', action='store_true',
+                        help='print numeric fields as CSV (header from the first message)')
+    parser.add_argument('--timeout', type=POSITIVE, default=None, metavar='S',
+                        help='give up after S seconds (exit 1 if the messages asked for, or '
+                             'any message, did not arrive); default: wait for ever')
+
+
+def _recording_commands(sub: argparse._SubParsersAction) -> None:
+    parser = _command(sub, 'info', 'cam_ros.commands.recording:info', 'Describe a recording',
+                      'Topics, types, counts, QoS, duration and attachments of an MCAP '
+                      'recording, laid out like `ros2 bag info`.')
+    parser.add_argument('path', metavar='FILE', help='MCAP recording')
+    parser.add_argument('--json', dest='json_output', action='store_true',
+                        help='print one JSON object')
+
+    parser = _command(sub, 'replay', 'cam_ros.commands.recording:replay', 'Replay a recording',
+                      'Publish the recorded messages with their recorded QoS and timing.')
+    parser.add_argument('path', metavar='FILE', help='MCAP recording')
+    parser.add_argument('--rate', type=POSITIVE, default=1.0, metavar='R',
+                        help='speed factor (default 1: recorded timing)')
+    parser.add_argument('--topics', nargs='+', default=None, metavar='TOPIC',
+                        help='replay only these topics (default all)')
+    parser.add_argument('--loop', action='store_true', help='repeat until Ctrl-C')
+    parser.add_argument('--wait', type=NON_NEGATIVE, default=0.0, metavar='S',
+                        help='seconds to wait for every topic to have a subscriber before '
+                             'the first message (default 0)')
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the parser of the whole `cam_ros` command line."""
+    try:
+        release = version('cam_ros')
+    except PackageNotFoundError:
+        release = 'unknown'
+    parser = _Parser(prog='cam_ros', description='Design, inspect and serve disk cams.',
+                     epilog=EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--version', action='version', version=f'cam_ros {release}')
+    sub = parser.add_subparsers(dest='command', metavar='COMMAND', required=True)
+    _design_commands(sub)
+    _ros_commands(sub)
+    _recording_commands(sub)
+    return parser
+
+
+def _handler(target: str) -> Callable[..., int]:
+    module, _, function = target.partition(':')
+    return getattr(importlib.import_module(module), function)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run `cam_ros` with argv (default sys.argv[1:]); return the exit code."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except UsageError as err:
+        print(f'{err.prog}: {err.message} (see {err.prog} --help)', file=sys.stderr)
+        return 2
+    except SystemExit as done:  # --help, --version
+        return int(done.code or 0)
+    options = vars(args)
+    command, target = options.pop('command'), options.pop('handler')
+    try:
+        return _handler(target)(**options)
+    except CamError as err:
+        print(f'cam_ros {command}: {err}', file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:  # the reader went away (e.g. `| head`): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_BROKEN_PIPE
+
+
+if __name__ == '__main__':
+    sys.exit(main())

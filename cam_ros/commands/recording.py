@@ -1,0 +1,43 @@
+"""Recording commands: summarise an MCAP recording, replay it onto the ROS graph."""
+from __future__ import annotations
+
+from typing import Sequence
+
+from cam_ros.commands.common import dump_json, end_progress, progress
+from cam_ros.commands.ros import ros_node
+
+
+def info(path: str, json_output: bool = False) -> int:
+    """Print what a recording holds, laid out like `ros2 bag info` (or as JSON)."""
+    from cam_ros.recording import format_info, info as recording_info
+
+    data = recording_info(path)
+    print(dump_json(data) if json_output else format_info(data))
+    return 0
+
+
+def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
+           loop: bool = False, wait: float = 0.0) -> int:
+    """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
+    from cam_ros.recording import open_recording, replay as replay_recording
+
+    recording = open_recording(path)
+    total = sum(recording.topics[name].count for name in topics or recording.topics
+                if name in recording.topics)
+    published = 0
+
+    def show(message: object) -> None:
+        nonlocal published
+        published += 1
+        progress('replay', f'{published} of {total} messages' + (' (looping)' if loop else ''))
+
+    with ros_node('replay') as (node, _):
+        try:
+            count = replay_recording(recording, node, rate=rate, topics=topics, loop=loop,
+                                     on_message=show, wait_for_subscribers=wait)
+        except KeyboardInterrupt:
+            count = published
+        finally:
+            end_progress()
+    print(f'published {count} messages from {path}')
+    return 0
