@@ -31,8 +31,10 @@ $(VENV)/.interfaces.stamp: $(VENV)/.deps.stamp $(wildcard cam_ros_interfaces/*.*
 	cmake --install $(IFACE_BUILD) > /dev/null
 	touch $@
 
+# setup.cfg puts the executables in lib/cam_ros, where `ros2 run` looks; link them into bin too.
 $(VENV)/.cam_ros.stamp: $(VENV)/.interfaces.stamp setup.py setup.cfg package.xml $(wildcard config/*.yaml)
 	$(PY) -m pip install --quiet --no-deps --no-build-isolation -e .
+	ln -sf ../lib/cam_ros/cam_node ../lib/cam_ros/cam_ros $(VENV)/bin/
 	touch $@
 
 run: setup

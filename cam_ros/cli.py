@@ -72,7 +72,8 @@ def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: s
              description: str) -> argparse.ArgumentParser:
     """Add a subcommand whose handler is the function target ('module:function')."""
     parser = sub.add_parser(name, help=summary, description=f'{summary}. {description}',
-                            epilog=EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter)
+                            epilog=EXIT_CODES,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.set_defaults(handler=target)
     return parser
 

@@ -8,12 +8,16 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from cam_ros.core import (CamDesign, InvalidParameter, OscillatingFlat, OscillatingRoller,
-                          TranslatingFlat, TranslatingRoller, cam_geometry)
+                          TranslatingRoller, cam_geometry)
 from cam_ros.core.report import position_unit
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 PLOT_SAMPLES = 3601  # points of the S-V-A-J curves over 0..360 deg
 DRAW_SAMPLES = 1440  # points of the cam curves
@@ -31,7 +35,7 @@ def _rotation(angle: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def _diagrams(design: CamDesign, axes: list, angle: float) -> None:
+def _diagrams(design: CamDesign, axes: list[Axes], angle: float) -> None:
     """Plot position, velocity, acceleration and jerk over one revolution on four axes."""
     theta = np.linspace(0.0, 2.0 * math.pi, PLOT_SAMPLES)
     theta[-1] = np.nextafter(2.0 * math.pi, 0.0)  # the left limit at 360 deg, not the wrap to 0
@@ -66,11 +70,12 @@ def _face_direction(design: CamDesign, reference: np.ndarray, contact: np.ndarra
     The second value is False when only the face's line, not the sense of e, is known.
     """
     sigma = -1.0 if design.clockwise else 1.0
-    if isinstance(design.follower, TranslatingFlat):
+    follower = design.follower
+    if not isinstance(follower, OscillatingFlat):
         return np.array([sigma, 0.0]), True
     if abs(offset) > FACE_OFFSET_TINY:
         return (contact - reference) / (offset * MM_PER_M), True
-    arm = reference - np.array([0.0, design.follower.pivot_distance * MM_PER_M])
+    arm = reference - np.array([0.0, follower.pivot_distance * MM_PER_M])
     return np.array([-arm[1], arm[0]]) / np.hypot(*arm), False
 
 
@@ -89,7 +94,7 @@ def _follower_lines(design: CamDesign, angle: float, turn: np.ndarray) -> dict:
         lines['roller'] = (reference, follower.roller_radius * MM_PER_M)
     else:
         check = design.check
-        low, high = check.face_min or 0.0, check.face_max or 0.0
+        low, high = min(0.0, check.face_min or 0.0), max(0.0, check.face_max or 0.0)
         offset = 0.0 if shape.contact_offset is None else float(shape.contact_offset[0])
         direction, sensed = _face_direction(design, reference, contact, offset)
         if not sensed:
@@ -103,11 +108,12 @@ def _follower_lines(design: CamDesign, angle: float, turn: np.ndarray) -> dict:
         lines['pivot'] = pivot
     else:
         offset_x = follower.offset * MM_PER_M if isinstance(follower, TranslatingRoller) else 0.0
-        lines['stem'] = np.array([[offset_x, offset_x], [reference[1], reference[1] + 0.8 * base]])
+        top = reference[1] + 0.8 * base
+        lines['stem'] = np.array([[offset_x, offset_x], [reference[1], top]])
     return lines
 
 
-def _drawing(design: CamDesign, ax: object, angle: float) -> None:
+def _drawing(design: CamDesign, ax: Axes, angle: float) -> None:
     """Draw the cam turned to angle (rad) with base circle, pitch curve and the follower."""
     sigma = -1.0 if design.clockwise else 1.0
     turn = _rotation(sigma * angle)
@@ -119,15 +125,16 @@ def _drawing(design: CamDesign, ax: object, angle: float) -> None:
     ax.fill(surface[0], surface[1], color='tab:blue', alpha=0.12, linewidth=0)
     ax.plot(*np.column_stack((surface, surface[:, :1])), color='tab:blue', linewidth=1.6,
             label='cam surface')
+    roller = isinstance(design.follower, (TranslatingRoller, OscillatingRoller))
     ax.plot(*np.column_stack((pitch, pitch[:, :1])), color='tab:orange', linewidth=1.0,
-            linestyle='--', label='pitch curve')
+            linestyle='--', label='pitch curve' if roller else 'face reference point path')
     ax.plot(base * np.cos(circle), base * np.sin(circle), color='0.5', linewidth=0.8,
             linestyle=':', label='base circle')
     mark = turn @ np.array([0.0, 0.35 * base])  # where the cam frame's +y axis points now
     ax.plot([0.0, mark[0]], [0.0, mark[1]], color='tab:blue', linewidth=1.0)
     ax.plot([0.0], [0.0], marker='+', color='k', markersize=10)
     lines = _follower_lines(design, angle, turn)
-    follower_style = {'color': 'tab:red', 'linewidth': 1.6}
+    follower_style: dict[str, Any] = {'color': 'tab:red', 'linewidth': 1.6}
     if 'roller' in lines:
         centre, radius = lines['roller']
         ax.plot(centre[0] + radius * np.cos(circle), centre[1] + radius * np.sin(circle),

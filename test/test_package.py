@@ -46,8 +46,9 @@ def test_package_xml_declares_ament_python_and_runtime_deps():
     assert imported <= exec_deps
 
 
-def test_console_scripts_are_installed_next_to_python():
+def test_executables_sit_where_ros2_run_looks_and_on_the_venv_path():
     for script in ('cam_node', 'cam_ros'):
+        assert (Path(sys.prefix) / 'lib' / 'cam_ros' / script).is_file(), script
         assert shutil.which(script, path=str(Path(sys.executable).parent)), script
 
 

@@ -9,8 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from cam_ros.commands.common import (degrees, dump_json, end_progress, format_table, load_design, number,
-                                     output_path, progress, verdict, write_error)
+from cam_ros.commands.common import (degrees, dump_json, end_progress, format_table,
+                                     load_design, number, output_path, progress, verdict,
+                                     write_error)
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import DesignReport, design_report, position_unit
 

@@ -188,7 +188,8 @@ def echo(topic: str, once: bool = False, csv_output: bool = False, count: int | 
             say('echo', f'no publisher of {name} within {timeout:g} s')
             return 1
         if len(set(types)) != 1:
-            raise InvalidParameter('TOPIC', name, f'has several types ({", ".join(sorted(set(types)))})')
+            raise InvalidParameter('TOPIC', name,
+                                   f'has several types ({", ".join(sorted(set(types)))})')
         qos = subscription_qos(node.get_publishers_info_by_topic(name))
         node.create_subscription(import_type(types[0]), name, printer, qos)
         try:

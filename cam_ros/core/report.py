@@ -103,8 +103,9 @@ def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
     if not isinstance(follower, TranslatingRoller) or not rises:
         return None
     steepest = max(rises, key=lambda s: s.peak_ds)
-    estimate = estimate_base_radius(steepest.s_end - steepest.s_start, steepest.end - steepest.start,
-                                    steepest.cv, design.config.pressure_angle_limit)
+    estimate = estimate_base_radius(steepest.s_end - steepest.s_start,
+                                    steepest.end - steepest.start, steepest.cv,
+                                    design.config.pressure_angle_limit)
     return QuickEstimate(steepest.index, estimate,
                          estimate.prime_radius - follower.roller_radius)
 
