@@ -8,6 +8,7 @@ alone). The in-process nodes are spun by a SingleThreadedExecutor in a backgroun
 """
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -17,7 +18,7 @@ import time
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import rclpy
 from domain_coordinator import domain_id
@@ -49,6 +50,18 @@ class ServerProcess:
         """Return what the process printed so far."""
         return self.log_path.read_text(errors='replace')
 
+    def ask(self, line: str | None = None) -> dict[str, Any]:
+        """Send a line to a piped process (if given) and return its next JSON line."""
+        assert self.process.stdin is not None and self.process.stdout is not None
+        if line is not None:
+            self.process.stdin.write(line + '\n')
+            self.process.stdin.flush()
+        for answer in self.process.stdout:
+            if answer.startswith('{'):
+                return json.loads(answer)
+        self.process.wait(timeout=STOP_TIMEOUT_S)
+        raise RuntimeError(f'{self.name} exited with {self.process.returncode}:\n{self.log()}')
+
     def peak_rss_bytes(self) -> int:
         """Return the process's peak resident set size (VmHWM) in bytes."""
         for line in Path(f'/proc/{self.process.pid}/status').read_text().splitlines():
@@ -57,7 +70,13 @@ class ServerProcess:
         raise RuntimeError(f'no VmHWM in /proc/{self.process.pid}/status')
 
     def stop(self) -> None:
-        """Stop the process with SIGINT (SIGKILL if it does not exit)."""
+        """Stop the process: end a piped one's input, else SIGINT; SIGKILL if it hangs."""
+        if self.process.stdin is not None and not self.process.stdin.closed:
+            self.process.stdin.close()
+            try:
+                self.process.wait(timeout=STOP_TIMEOUT_S)
+            except subprocess.TimeoutExpired:
+                pass
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGINT)
         try:
@@ -83,9 +102,10 @@ class RosGraph:
         with ExitStack() as stack:
             domain = stack.enter_context(domain_id())
             os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+            python_path = os.pathsep.join(filter(None, [str(REPO), os.environ.get('PYTHONPATH')]))
             self.env = dict(os.environ, ROS_DOMAIN_ID=str(domain),
                             ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST',
-                            ROS_LOG_DIR=str(self.workdir / 'ros_log'))
+                            ROS_LOG_DIR=str(self.workdir / 'ros_log'), PYTHONPATH=python_path)
             self.context = Context()
             rclpy.init(context=self.context, domain_id=domain)
             stack.callback(rclpy.try_shutdown, context=self.context)
@@ -125,24 +145,33 @@ class RosGraph:
         self.executor.add_node(node)
         return node
 
-    def start(self, command: list[str], name: str, *ros_args: str) -> ServerProcess:
-        """Start `python command... --ros-args -r __node:=name ros_args...` on this domain."""
+    def start(self, module: str, name: str, *args: str, ros_args: Sequence[str] = (),
+              pipe: bool = False) -> ServerProcess:
+        """
+        Start `python -m module args... --ros-args -r __node:=name ros_args...` on this domain.
+
+        Its output goes to a log file; with `pipe`, stdin and stdout are text pipes instead
+        (JSON lines, see ServerProcess.ask) and only stderr goes to the log.
+        """
         log_path = self.workdir / f'{name}.log'
         with open(log_path, 'wb') as log:
             popen = subprocess.Popen(
-                [sys.executable, *command, '--ros-args', '-r', f'__node:={name}', *ros_args],
-                stdout=log, stderr=subprocess.STDOUT, env=self.env, cwd=self.workdir)
+                [sys.executable, '-m', module, *args, '--ros-args', '-r', f'__node:={name}',
+                 *ros_args],
+                stdin=subprocess.PIPE if pipe else subprocess.DEVNULL,
+                stdout=subprocess.PIPE if pipe else log, stderr=log, text=pipe,
+                env=self.env, cwd=self.workdir)
         process = ServerProcess(name, popen, log_path)
         self._processes.append(process)
         return process
 
     def start_cam_node(self, name: str, config: Path = DEFAULT_CONFIG) -> ServerProcess:
         """Start cam_node (`python -m cam_ros.node`) on a params file."""
-        return self.start(['-m', 'cam_ros.node'], name, '--params-file', str(config))
+        return self.start('cam_ros.node', name, ros_args=('--params-file', str(config)))
 
     def start_setbool_server(self, name: str) -> ServerProcess:
         """Start the trivial SetBool server (benchmarks/setbool_server.py)."""
-        return self.start([str(BENCH_DIR / 'setbool_server.py')], name)
+        return self.start('benchmarks.setbool_server', name)
 
     def wait_for_service(self, client: Client, process: ServerProcess,
                          timeout: float = SERVICE_TIMEOUT_S) -> None:

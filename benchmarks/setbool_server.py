@@ -1,7 +1,9 @@
-"""Serve a trivial std_srvs/SetBool service: the floor the cam node's service is measured against.
+"""
+Serve a trivial std_srvs/SetBool service: the reference for the cam node's service and start-up.
 
-Run as ``python setbool_server.py --ros-args -r __node:=NAME``; serves ``/NAME/set_bool`` with a
-SingleThreadedExecutor, answering success = request.data, until SIGINT or SIGTERM.
+Run as ``python -m benchmarks.setbool_server --ros-args -r __node:=NAME``; serves
+``/NAME/set_bool`` with a SingleThreadedExecutor, answering success = request.data, until SIGINT
+or SIGTERM.
 """
 from __future__ import annotations
 

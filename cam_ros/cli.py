@@ -191,6 +191,11 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def one_line(message: str) -> str:
+    """Join a multi-line message (e.g. a YAML parser's, with caret lines) into one line."""
+    return ' '.join(line.strip() for line in message.splitlines() if line.strip(' ^'))
+
+
 def _handler(target: str) -> Callable[..., int]:
     module, _, function = target.partition(':')
     return getattr(importlib.import_module(module), function)
@@ -211,7 +216,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _handler(target)(**options)
     except CamError as err:
-        print(f'cam_ros {command}: {err}', file=sys.stderr)
+        print(f'cam_ros {command}: {one_line(str(err))}', file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED

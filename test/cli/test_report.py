@@ -1,6 +1,8 @@
 """`cam_ros report`: values against independent closed forms, exit codes, invalid configs."""
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import math
 
@@ -8,8 +10,10 @@ import numpy as np
 import pytest
 from cli_support import (assert_one_error_line, BASE_RADIUS, DEFAULT_CONFIG, follower_config,
                          FOLLOWERS, MIN_RADIUS, OMEGA, PRESSURE_LIMIT_DEG, RETURN_SPAN, RISE,
-                         RISE_SPAN, ROLLER_RADIUS, run_cli, seed_000_motion, seed_000_roller,
+                         RISE_SPAN, ROLLER_RADIUS, load_parameters, run_cli, seed_000_motion, seed_000_roller,
                          SHIPPED_CONFIGS, write_config)
+
+from cam_ros.cli import main
 
 #: Dense grid of the independent references (the report samples 7200 angles per turn).
 REFERENCE_SAMPLES = 720_000
@@ -43,11 +47,7 @@ def edited(tmp_path, name, **changes):
 
 @pytest.fixture(scope='module')
 def default_report():
-    from cam_ros.cli import main
-
-    # Module-scoped: run once without capsys, through a temporary stdout redirect.
-    import contextlib
-    import io
+    """Run `cam_ros report config/default.yaml --json` once for the module."""
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         code = main(['report', str(DEFAULT_CONFIG), '--json'])
@@ -189,6 +189,16 @@ def test_flat_face_width_is_the_range_of_ds_dtheta(tmp_path, capsys):
     assert data['quick_estimate'] is None  # seed 002's method is for roller followers
 
 
+def test_flat_face_min_base_radius_keeps_the_surface_radius_above_the_limit(tmp_path, capsys):
+    code, data = report_json(capsys, follower_config(tmp_path, 'translating_flat'))
+    # rho = Rb + s + d2s/dtheta2 >= limit everywhere: Rb >= limit - min(s + d2s).
+    theta = np.linspace(0.0, 2 * math.pi, REFERENCE_SAMPLES, endpoint=False)
+    s, _, d2s, _ = seed_000_motion(theta)
+    assert data['min_base_radius_governing'] == 'radius'
+    assert data['min_base_radius'] == pytest.approx(MIN_RADIUS - (s + d2s).min(),
+                                                    rel=RELATIVE_TOLERANCE)
+
+
 @pytest.mark.parametrize('kind', sorted(FOLLOWERS))
 def test_every_follower_reports_in_its_position_unit(kind, tmp_path, capsys):
     code, data = report_json(capsys, follower_config(tmp_path, kind))
@@ -202,7 +212,8 @@ def test_every_follower_reports_in_its_position_unit(kind, tmp_path, capsys):
 @pytest.mark.parametrize('changes, violated', [
     ({'limits__pressure_angle_deg': 20.0}, 'pressure_angle_ok'),
     ({'limits__min_radius_of_curvature': 4.0}, 'radius_of_curvature_ok'),
-    ({'follower__roller_radius': 3.9, 'follower__base_radius': 1.0}, 'undercut'),
+    # Same prime circle as seed 000 (pitch curve radius >= 4 cm) with a 4.5 cm roller.
+    ({'follower__roller_radius': 4.5, 'follower__base_radius': 0.5}, 'undercut'),
 ])
 def test_a_violated_limit_exits_1(changes, violated, tmp_path, capsys):
     code, data = report_json(capsys, edited(tmp_path, 'bad', **changes))
@@ -261,6 +272,8 @@ def test_unreadable_config_exits_2(content, fragment, tmp_path, capsys):
 def test_every_shipped_config_reports(config, capsys):
     code, data = report_json(capsys, config)
     assert code == (0 if data['ok'] else 1)
-    assert data['segments'] and data['min_base_radius'] is None or data['min_base_radius'] > 0
+    assert data['segments'][0]['start_deg'] == pytest.approx(
+        load_parameters(config)['motion']['start_deg'][0])
+    assert data['min_base_radius'] is None or data['min_base_radius'] > 0
     text = run_cli(capsys, 'report', config)
     assert text.code == code and 'Verdict:' in text.out

@@ -1,0 +1,162 @@
+"""
+Host a Recorder on a cam_node in its own process, for the recorder benchmarks.
+
+Run as ``python -m benchmarks.recording_host COMMAND ARGS... --ros-args -r __node:=NAME
+--params-file CONFIG``: builds the real CamNode, spins it with a SingleThreadedExecutor in a
+background thread (as rclpy.spin would) and talks JSON lines over stdin/stdout.
+
+``sink MODE TOPIC PATH``: MODE 'recorder' attaches a Recorder of TOPIC (sensor_msgs/JointState,
+offered with cam_node's state QoS) writing to PATH; MODE 'bare' a raw subscription that only
+counts. Prints {"ready": true}, then answers every 'count' line with {"count": n, "cpu_s": s}
+until stdin closes.
+
+``loop TOPIC PATH RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages at
+RATE_HZ on TOPIC, ROUNDS times without and with a Recorder of TOPIC attached to the node, and
+prints the time per build-and-publish and the process CPU per message of each, and the fraction
+of the messages published with recording on that the recorder wrote.
+"""
+from __future__ import annotations
+
+import json
+import math
+import statistics
+import sys
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, Sequence
+
+import rclpy
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.publisher import Publisher
+from rclpy.qos import QoSProfile
+from rclpy.utilities import remove_ros_args
+from sensor_msgs.msg import JointState
+
+from cam_ros.node import CamNode, params_file_from, STATE_QOS
+from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
+
+#: The bare subscription's QoS: what the Recorder subscribes with for STATE_QOS.
+BARE_QOS = QoSProfile(depth=max(STATE_QOS.depth, MIN_SUBSCRIPTION_DEPTH))
+#: Longest wait for the recorder to match the publisher and write every message (s).
+WAIT_S = 10.0
+#: Pause between the recorder matching the publisher and the first message (s).
+SETTLE_S = 0.2
+
+
+def reply(**values: Any) -> None:
+    """Print one JSON line for the benchmark process."""
+    print(json.dumps(values), flush=True)
+
+
+def wait_until(predicate: Callable[[], bool], timeout: float = WAIT_S) -> bool:
+    """Poll predicate until it holds or timeout seconds pass; return its last value."""
+    deadline = time.monotonic() + timeout
+    while not predicate() and time.monotonic() < deadline:
+        time.sleep(0.001)
+    return predicate()
+
+
+def sink(node: CamNode, mode: str, topic: str, path: str) -> None:
+    """Record or just count topic, answering 'count' requests until stdin closes."""
+    recorder = None
+    received = [0]
+    if mode == 'recorder':
+        recorder = Recorder(node, path, [TopicSpec(topic, JointState, STATE_QOS)])
+    else:
+        def count(data: bytes) -> None:
+            received[0] += 1
+
+        node.create_subscription(JointState, topic, count, BARE_QOS, raw=True)
+    reply(ready=True)
+    for line in sys.stdin:
+        if line.strip() == 'count':
+            reply(count=received[0] if recorder is None else recorder.message_count,
+                  cpu_s=time.process_time())
+    if recorder is not None:
+        recorder.close()
+        if recorder.failed:
+            raise SystemExit(f'recorder failed: {recorder.error}')
+
+
+def state_message(clock_ns: int, theta: float) -> JointState:
+    """Build a JointState like cam_node's state message (two joints, stamped, framed)."""
+    message = JointState(name=['cam', 'follower'], position=[theta, 0.01 * math.sin(theta)],
+                         velocity=[6.28, 0.0628 * math.cos(theta)])
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(clock_ns, 1_000_000_000)
+    message.header.frame_id = 'cam'
+    return message
+
+
+def publish_loop(publisher: Publisher, rate_hz: float, count: int) -> tuple[list[int], float]:
+    """Publish count messages at rate_hz; return ns per build-and-publish, CPU s per message."""
+    period = 1.0 / rate_hz
+    busy: list[int] = []
+    cpu = time.process_time()
+    wake = time.perf_counter()
+    for index in range(count):
+        start = time.perf_counter_ns()
+        publisher.publish(state_message(time.time_ns(), index * period))
+        busy.append(time.perf_counter_ns() - start)
+        wake += period
+        time.sleep(max(0.0, wake - time.perf_counter()))
+    return busy, (time.process_time() - cpu) / count
+
+
+def loop(node: CamNode, topic: str, path: str, rate_hz: float, count: int, rounds: int) -> None:
+    """Run the publish loop ROUNDS times without and with a Recorder; print the statistics."""
+    publisher = node.create_publisher(JointState, topic, STATE_QOS)
+    busy: dict[str, list[int]] = {'off': [], 'on': []}
+    cpu: dict[str, list[float]] = {'off': [], 'on': []}
+    recorded = 0
+    publish_loop(publisher, rate_hz, min(count, 100))  # warm-up
+    for round_ in range(rounds):
+        times, seconds = publish_loop(publisher, rate_hz, count)
+        busy['off'].extend(times)
+        cpu['off'].append(seconds)
+        with Recorder(node, Path(path).with_suffix(f'.{round_}.mcap'),
+                      [TopicSpec(topic, JointState, STATE_QOS)]) as recorder:
+            if not wait_until(lambda: publisher.get_subscription_count() > 0):
+                raise SystemExit('the recorder never matched the publisher')
+            time.sleep(SETTLE_S)
+            times, seconds = publish_loop(publisher, rate_hz, count)
+            busy['on'].extend(times)
+            cpu['on'].append(seconds)
+            wait_until(lambda: recorder.message_count >= count)
+            recorded += recorder.message_count
+    reply(recorded_fraction=recorded / (rounds * count),
+          **{mode: {'mean_us': statistics.fmean(busy[mode]) * 1e-3,
+                    'p50_us': statistics.median(busy[mode]) * 1e-3,
+                    'cpu_us': statistics.median(cpu[mode]) * 1e6} for mode in busy})
+
+
+def main(args: Sequence[str] | None = None) -> int:
+    """Start the cam node, spin it in a thread and run the requested command."""
+    argv = list(sys.argv if args is None else args)
+    command, *rest = remove_ros_args(argv)[1:]
+    rclpy.init(args=argv)
+    node = CamNode(params_file_from(argv))
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        if command == 'sink':
+            sink(node, *rest)
+        else:
+            topic, path, rate_hz, count, rounds = rest
+            loop(node, topic, path, float(rate_hz), int(count), int(rounds))
+    except ExternalShutdownException:
+        return 1
+    finally:
+        executor.shutdown()
+        thread.join()
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
