@@ -38,7 +38,7 @@ HOST = 'benchmarks.recording_host'
 class RecordingSizes:
     """How much to measure: offered rates and their length; publish-loop rate, length, rounds."""
 
-    rates_hz: tuple[float, ...] = (5000.0, 10000.0, 15000.0, 20000.0, 30000.0, 40000.0)
+    rates_hz: tuple[float, ...] = (1000.0, 2500.0, 5000.0, 10000.0, 15000.0, 20000.0, 30000.0, 40000.0)
     rate_seconds: float = 2.0
     loop_rate_hz: float = 1000.0
     loop_seconds: float = 1.5

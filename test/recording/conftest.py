@@ -8,7 +8,6 @@ import sys
 import threading
 import time
 
-from domain_coordinator import domain_id
 import pytest
 import rclpy
 from rclpy.context import Context
@@ -24,8 +23,6 @@ from cam_ros.recording import PARAMETER_EVENTS, Recorder, TopicSpec
 from .recording_support import (CONFIG_TEXT, joint_state, LATCHED_QOS, LATCHED_TOPIC,
                                 PARAMETER_TOPIC, ReferenceRecording, STREAM_COUNT, STREAM_PERIOD,
                                 STREAM_QOS, STREAM_TOPIC, trajectory, wait_until)
-
-os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 
 
 @dataclass
@@ -48,21 +45,20 @@ class RosGraph:
 
 
 @pytest.fixture(scope='session')
-def ros(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RosGraph]:
-    """Yield a ROS graph on a domain id reserved for this test process."""
+def ros(ros_domain: int, tmp_path_factory: pytest.TempPathFactory) -> Iterator[RosGraph]:
+    """Yield a ROS graph on the domain id reserved for this test process (test/conftest.py)."""
     os.environ.setdefault('ROS_LOG_DIR', str(tmp_path_factory.mktemp('ros_log')))
-    with domain_id() as domain:
-        context = Context()
-        rclpy.init(context=context, domain_id=domain)
-        executor = SingleThreadedExecutor(context=context)
-        thread = threading.Thread(target=executor.spin, daemon=True)
-        thread.start()
-        try:
-            yield RosGraph(context, executor)
-        finally:
-            executor.shutdown()
-            thread.join()
-            rclpy.shutdown(context=context)
+    context = Context()
+    rclpy.init(context=context, domain_id=ros_domain)
+    executor = SingleThreadedExecutor(context=context)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    try:
+        yield RosGraph(context, executor)
+    finally:
+        executor.shutdown()
+        thread.join()
+        rclpy.shutdown(context=context)
 
 
 @pytest.fixture
