@@ -11,9 +11,9 @@ counts. Prints {"ready": true}, then answers every 'count' line with {"count": n
 until stdin closes.
 
 ``loop TOPIC PATH RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages at
-RATE_HZ on TOPIC, ROUNDS times without and with a Recorder of TOPIC attached to the node, and
-prints the time per build-and-publish and the process CPU per message of each, and the fraction
-of the messages published with recording on that the recorder wrote.
+RATE_HZ on TOPIC, ROUNDS times in turn with nothing subscribed ('off'), a bare raw subscription
+('bare') and a Recorder of TOPIC ('on') on the same node; prints the time per build-and-publish
+and the process CPU per message of each, and the fraction of the 'on' messages recorded.
 """
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -42,6 +43,8 @@ from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
 BARE_QOS = QoSProfile(depth=max(STATE_QOS.depth, MIN_SUBSCRIPTION_DEPTH))
 #: Longest wait for the recorder to match the publisher and write every message (s).
 WAIT_S = 10.0
+#: The publish loop's modes: no subscriber, a bare raw subscription, a Recorder (same node).
+LOOP_MODES = ('off', 'bare', 'on')
 #: Pause between the recorder matching the publisher and the first message (s).
 SETTLE_S = 0.2
 
@@ -57,6 +60,10 @@ def wait_until(predicate: Callable[[], bool], timeout: float = WAIT_S) -> bool:
     while not predicate() and time.monotonic() < deadline:
         time.sleep(0.001)
     return predicate()
+
+
+def ignore(data: bytes) -> None:
+    """Drop a message (the bare subscription of the publish loop)."""
 
 
 def sink(node: CamNode, mode: str, topic: str, path: str) -> None:
@@ -106,26 +113,34 @@ def publish_loop(publisher: Publisher, rate_hz: float, count: int) -> tuple[list
 
 
 def loop(node: CamNode, topic: str, path: str, rate_hz: float, count: int, rounds: int) -> None:
-    """Run the publish loop ROUNDS times without and with a Recorder; print the statistics."""
+    """Run the publish loop ROUNDS times in each of LOOP_MODES; print the statistics."""
     publisher = node.create_publisher(JointState, topic, STATE_QOS)
-    busy: dict[str, list[int]] = {'off': [], 'on': []}
-    cpu: dict[str, list[float]] = {'off': [], 'on': []}
+    busy: dict[str, list[int]] = {mode: [] for mode in LOOP_MODES}
+    cpu: dict[str, list[float]] = {mode: [] for mode in LOOP_MODES}
     recorded = 0
     publish_loop(publisher, rate_hz, min(count, 100))  # warm-up
     for round_ in range(rounds):
-        times, seconds = publish_loop(publisher, rate_hz, count)
-        busy['off'].extend(times)
-        cpu['off'].append(seconds)
-        with Recorder(node, Path(path).with_suffix(f'.{round_}.mcap'),
-                      [TopicSpec(topic, JointState, STATE_QOS)]) as recorder:
-            if not wait_until(lambda: publisher.get_subscription_count() > 0):
-                raise SystemExit('the recorder never matched the publisher')
-            time.sleep(SETTLE_S)
-            times, seconds = publish_loop(publisher, rate_hz, count)
-            busy['on'].extend(times)
-            cpu['on'].append(seconds)
-            wait_until(lambda: recorder.message_count >= count)
-            recorded += recorder.message_count
+        for mode in LOOP_MODES:
+            with ExitStack() as stack:
+                if mode == 'bare':
+                    subscription = node.create_subscription(JointState, topic, ignore, BARE_QOS,
+                                                            raw=True)
+                    stack.callback(node.destroy_subscription, subscription)
+                elif mode == 'on':
+                    recorder = stack.enter_context(Recorder(
+                        node, Path(path).with_suffix(f'.{round_}.mcap'),
+                        [TopicSpec(topic, JointState, STATE_QOS)]))
+                if mode != 'off':
+                    if not wait_until(lambda: publisher.get_subscription_count() > 0):
+                        raise SystemExit(f'{mode}: nothing matched the publisher')
+                    time.sleep(SETTLE_S)
+                times, seconds = publish_loop(publisher, rate_hz, count)
+                busy[mode].extend(times)
+                cpu[mode].append(seconds)
+                if mode == 'on':
+                    wait_until(lambda: recorder.message_count >= count)
+                    recorded += recorder.message_count
+            wait_until(lambda: publisher.get_subscription_count() == 0)
     reply(recorded_fraction=recorded / (rounds * count),
           **{mode: {'mean_us': statistics.fmean(busy[mode]) * 1e-3,
                     'p50_us': statistics.median(busy[mode]) * 1e-3,

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 import operator
 import os
 import platform
@@ -56,9 +57,10 @@ class Figure:
     @property
     def ratio(self) -> float:
         """Return the figure over its reference (or the reverse for a speed-up)."""
+        numerator, denominator = self.value, self.reference_value
         if self.inverse:
-            return self.reference_value / self.value
-        return self.value / self.reference_value
+            numerator, denominator = denominator, numerator
+        return numerator / denominator if denominator else math.nan
 
     @property
     def met(self) -> bool | None:
@@ -69,7 +71,7 @@ class Figure:
         """Return the figure as a JSON-ready mapping (ratio and verdict included)."""
         data = asdict(self)
         data['target'] = None if self.target is None else self.target.text(self.unit)
-        data.update(ratio=self.ratio, met=self.met)
+        data.update(ratio=self.ratio if math.isfinite(self.ratio) else None, met=self.met)
         return data
 
 
@@ -120,6 +122,6 @@ def write_results(figures: list[Figure], header: dict[str, Any], json_path: Path
     """Write the figures to JSON and the markdown table to its file; return the table."""
     table = markdown_table(figures)
     results = {**header, 'figures': {figure.key: figure.as_json() for figure in figures}}
-    json_path.write_text(json.dumps(results, indent=2) + '\n')
+    json_path.write_text(json.dumps(results, indent=2, allow_nan=False) + '\n')
     markdown_path.write_text(table)
     return table

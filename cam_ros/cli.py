@@ -14,6 +14,7 @@ import importlib
 import math
 import os
 import sys
+import textwrap
 from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, NoReturn, Sequence
 
@@ -24,7 +25,9 @@ EXIT_CODES = '''exit codes:
   1  the design violates one of its limits (pressure angle, radius of curvature, undercut;
      the output is still written), or a ROS call / echo failed
   2  invalid input (config, arguments, file): one line "cam_ros <command>: <message>" on stderr
+  130 interrupted by Ctrl-C (echo and replay stop cleanly and exit 0); 141 output pipe closed
 '''
+HELP_WIDTH = 79
 EXIT_INTERRUPTED = 130
 EXIT_BROKEN_PIPE = 141
 
@@ -71,8 +74,8 @@ SAMPLES = _number(int, 'an integer >= 3', lambda x: x >= 3)
 def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
              description: str) -> argparse.ArgumentParser:
     """Add a subcommand whose handler is the function target ('module:function')."""
-    parser = sub.add_parser(name, help=summary, description=f'{summary}. {description}',
-                            epilog=EXIT_CODES,
+    parser = sub.add_parser(name, help=summary, epilog=EXIT_CODES,
+                            description=textwrap.fill(f'{summary}. {description}', HELP_WIDTH),
                             formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.set_defaults(handler=target)
     return parser
@@ -144,8 +147,9 @@ def _ros_commands(sub: argparse._SubParsersAction) -> None:
                       'graph; latched topics are received) and print each message YAML-like, '
                       'or as CSV of its numeric fields.')
     parser.add_argument('topic', metavar='TOPIC', help='topic name, e.g. /cam/joint_states')
-    parser.add_argument('--once', action='store_true', help='print one message and exit')
-    parser.add_argument('--count', type=COUNT, default=None, metavar='N',
+    amount = parser.add_mutually_exclusive_group()
+    amount.add_argument('--once', action='store_true', help='print one message and exit')
+    amount.add_argument('--count', type=COUNT, default=None, metavar='N',
                         help='print N messages and exit')
     parser.add_argument('--csv', dest='csv_output', action='store_true',
                         help='print numeric fields as CSV (header from the first message)')

@@ -43,8 +43,7 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'config': str(config),
         'ok': report.ok,
         'warnings': list(report.warnings),
-        'follower': {'type': cfg.follower.type, **{
-            name: value for name, value in vars(design.follower).items()}},
+        'follower': {'type': cfg.follower.type, **vars(design.follower)},
         'rotation': 'clockwise' if cfg.clockwise else 'counterclockwise',
         'cam_speed': cfg.cam_speed,
         'position_unit': unit,

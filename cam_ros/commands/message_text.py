@@ -6,11 +6,17 @@ get_fields_and_field_types(), so it works for every generated message class.
 from __future__ import annotations
 
 import array
+import json
+import math
+import re
 from typing import Any, Iterator
 
 import numpy as np
 
 SEQUENCES = (list, tuple, array.array, np.ndarray)
+#: Strings printed without quotes (others as JSON strings, which YAML reads as well).
+PLAIN_STRING = re.compile(r'[A-Za-z_/][\w./,()-]*(?: [\w./,()-]+)*')
+YAML_WORDS = frozenset({'true', 'false', 'yes', 'no', 'on', 'off', 'null', 'y', 'n'})
 
 
 def _is_message(value: Any) -> bool:
@@ -34,12 +40,27 @@ def _scalar(value: Any) -> Any:
 
 
 def _scalar_text(value: Any) -> str:
+    """Return a scalar as YAML text: strings plain when YAML reads them back unchanged."""
     value = _scalar(value)
     if isinstance(value, str):
-        return repr(value) if value == '' or value != value.strip() or ':' in value else value
+        plain = PLAIN_STRING.fullmatch(value) and value.lower() not in YAML_WORDS
+        return value if plain else json.dumps(value)
     if isinstance(value, bool):
         return 'true' if value else 'false'
+    if isinstance(value, float):
+        return _float_text(value)
     return repr(value)
+
+
+def _float_text(value: float) -> str:
+    """Return the shortest exact text of a float that YAML 1.1 readers also take as a float."""
+    if math.isnan(value):
+        return '.nan'
+    if math.isinf(value):
+        return '.inf' if value > 0 else '-.inf'
+    text = repr(value)
+    mantissa, e, exponent = text.partition('e')
+    return f'{mantissa}.0e{exponent}' if e and '.' not in mantissa else text
 
 
 def _items(value: Any) -> list[Any]:

@@ -1,7 +1,9 @@
 """`cam_ros export`: CSV, DXF and SVG round trips equal design.geometry() in millimetres."""
 from __future__ import annotations
 
+import io
 import re
+import sys
 import xml.etree.ElementTree as ET
 
 import ezdxf
@@ -10,6 +12,7 @@ import pytest
 from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, FOLLOWERS,
                          run_cli, SHIPPED_CONFIGS)
 
+from cam_ros.cli import main
 from cam_ros.commands.common import load_design
 
 MM = 1000.0
@@ -130,3 +133,23 @@ def test_every_shipped_config_exports(config, suffix, tmp_path, capsys):
 def test_bad_export_arguments_exit_2(argv, fragments, capsys):
     run = run_cli(capsys, 'export', DEFAULT_CONFIG, *argv)
     assert_one_error_line(run, 'export', *fragments)
+
+
+class Terminal(io.StringIO):
+    """A stderr that claims to be a terminal."""
+
+    def isatty(self) -> bool:
+        return True
+
+
+def test_progress_shows_on_a_terminal_only(tmp_path, monkeypatch):
+    terminal = Terminal()
+    monkeypatch.setattr(sys, 'stderr', terminal)
+    assert main(['export', str(DEFAULT_CONFIG), '-o', str(tmp_path / 'cam.svg')]) == 0
+    shown = terminal.getvalue()
+    assert shown.startswith(f'\rcam_ros export: writing {tmp_path / "cam.svg"}')
+    assert shown.endswith('\r\x1b[K')  # and cleared when done
+    piped = io.StringIO()
+    monkeypatch.setattr(sys, 'stderr', piped)
+    assert main(['export', str(DEFAULT_CONFIG), '-o', str(tmp_path / 'cam.csv')]) == 0
+    assert piped.getvalue() == ''

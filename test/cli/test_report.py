@@ -9,9 +9,9 @@ import math
 import numpy as np
 import pytest
 from cli_support import (assert_one_error_line, BASE_RADIUS, DEFAULT_CONFIG, follower_config,
-                         FOLLOWERS, MIN_RADIUS, OMEGA, PRESSURE_LIMIT_DEG, RETURN_SPAN, RISE,
-                         RISE_SPAN, ROLLER_RADIUS, load_parameters, run_cli, seed_000_motion, seed_000_roller,
-                         SHIPPED_CONFIGS, write_config)
+                         FOLLOWERS, load_parameters, MIN_RADIUS, OMEGA, PRESSURE_LIMIT_DEG,
+                         RETURN_SPAN, RISE, RISE_SPAN, ROLLER_RADIUS, run_cli, seed_000_motion,
+                         seed_000_roller, SHIPPED_CONFIGS, write_config)
 
 from cam_ros.cli import main
 
@@ -69,15 +69,15 @@ def test_pressure_angle_and_curvature_match_the_closed_forms(default_report):
     _, data = default_report
     theta = np.linspace(0.0, 2 * math.pi, REFERENCE_SAMPLES, endpoint=False)
     phi, rho = seed_000_roller(theta)
-    assert data['pressure_angle_max_deg'] == pytest.approx(np.degrees(phi.max()),
-                                                          abs=EXTREME_TOLERANCE_DEG)
-    assert data['pressure_angle_min_deg'] == pytest.approx(np.degrees(phi.min()),
-                                                          abs=EXTREME_TOLERANCE_DEG)
+    assert data['pressure_angle_max_deg'] == pytest.approx(
+        np.degrees(phi.max()), abs=EXTREME_TOLERANCE_DEG)
+    assert data['pressure_angle_min_deg'] == pytest.approx(
+        np.degrees(phi.min()), abs=EXTREME_TOLERANCE_DEG)
     assert data['pressure_angle_max_at_deg'] == pytest.approx(
         np.degrees(theta[phi.argmax()]), abs=ANGLE_AT_TOLERANCE_DEG)
     convex = rho > 0
-    assert data['radius_of_curvature_min'] == pytest.approx(rho[convex].min(),
-                                                           rel=RELATIVE_TOLERANCE)
+    assert data['radius_of_curvature_min'] == pytest.approx(
+        rho[convex].min(), rel=RELATIVE_TOLERANCE)
     assert data['radius_of_curvature_min_at_deg'] == pytest.approx(
         np.degrees(theta[convex][rho[convex].argmin()]), abs=ANGLE_AT_TOLERANCE_DEG)
 

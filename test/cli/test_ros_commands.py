@@ -15,6 +15,7 @@ from cam_ros.commands.common import load_design
 
 SHORT_TIMEOUT_S = 0.5
 NODE_TIMEOUT_S = 10.0
+STREAM_TIMEOUT_S = 3.0  # discovery (up to ~1.5 s) plus a stream at 50 Hz
 
 
 @pytest.fixture
@@ -24,7 +25,7 @@ def cam_node(start_cam_node):
     return load_design(DEFAULT_CONFIG)
 
 
-def test_call_json_equals_the_design(cam_node, capsys):
+def test_call_prints_the_designs_values_as_json_and_as_a_table(cam_node, capsys):
     run = run_cli(capsys, 'call', '100', '130', '-30', '--deg', '--json',
                   '--timeout', NODE_TIMEOUT_S)
     assert run.code == 0, run.err
@@ -39,8 +40,7 @@ def test_call_json_equals_the_design(cam_node, capsys):
     # Seed 000's table: the follower is 0.780 cm up at 130 deg.
     assert data['position'][1] == pytest.approx(0.780e-2, abs=5e-6)
 
-
-def test_call_table_has_units_and_one_row_per_angle(cam_node, capsys):
+    # The same call as a table: units in the header, one row per angle.
     run = run_cli(capsys, 'call', '0.5', '2', '--timeout', NODE_TIMEOUT_S)
     assert run.code == 0, run.err
     header, *rows = run.out.splitlines()
@@ -54,6 +54,7 @@ def test_call_table_has_units_and_one_row_per_angle(cam_node, capsys):
     assert float(cells[0]) == pytest.approx(math.degrees(2.0), abs=1e-4)
     assert float(cells[2]) == pytest.approx(expected.position[1], rel=1e-5)
     assert float(cells[6]) == pytest.approx(math.degrees(expected.pressure_angle[1]), abs=1e-4)
+    assert float(cells[7]) == pytest.approx(expected.radius_of_curvature[1], rel=1e-5)
 
 
 def test_call_reports_units_of_an_oscillating_follower(start_cam_node, tmp_path, capsys):
@@ -93,7 +94,7 @@ def test_bad_ros_arguments_exit_2(argv, fragment, capsys):
     assert run.err.startswith(f'cam_ros {argv[0]}: ')
 
 
-def test_echo_once_receives_the_latched_pressure_angle_profile(cam_node, capsys):
+def test_echo_once_receives_latched_messages_as_yaml(cam_node, capsys):
     run = run_cli(capsys, 'echo', '/cam/pressure_angle', '--once', '--timeout', NODE_TIMEOUT_S)
     assert run.code == 0, run.err
     documents = [doc for doc in yaml.safe_load_all(run.out) if doc is not None]
@@ -105,8 +106,18 @@ def test_echo_once_receives_the_latched_pressure_angle_profile(cam_node, capsys)
     np.testing.assert_array_equal(
         message['data'], np.concatenate([profile.angle, profile.pressure_angle]))
 
+    # A latched message with nested message sequences.
+    run = run_cli(capsys, 'echo', '/cam/profile', '--once', '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 0, run.err
+    message = yaml.safe_load(run.out.split('\n---\n')[0])
+    assert message['joint_names'] == ['follower'] and message['header']['frame_id'] == 'cam'
+    points = message['points']
+    assert len(points) == cam_node.config.sample_count
+    np.testing.assert_array_equal([p['positions'][0] for p in points], profile.position)
+    assert points[90]['time_from_start'] == {'sec': 0, 'nanosec': 250_000_000}  # 90 deg at 1 Hz
 
-def test_echo_csv_flattens_joint_states(cam_node, capsys):
+
+def test_echo_csv_flattens_streamed_messages(cam_node, capsys):
     run = run_cli(capsys, 'echo', 'cam/joint_states', '--csv', '--count', '3',
                   '--timeout', NODE_TIMEOUT_S)
     assert run.code == 0, run.err
@@ -120,28 +131,15 @@ def test_echo_csv_flattens_joint_states(cam_node, capsys):
                                rtol=1e-12, atol=1e-15)
     assert np.all(values[:, 4] == cam_node.config.cam_speed)
 
-
-def test_echo_yaml_of_nested_message_sequences(cam_node, capsys):
-    run = run_cli(capsys, 'echo', '/cam/profile', '--once', '--timeout', NODE_TIMEOUT_S)
+    # Without a count, the stream ends at the timeout.
+    run = run_cli(capsys, 'echo', '/cam/state_extras', '--csv', '--timeout', STREAM_TIMEOUT_S)
     assert run.code == 0, run.err
-    message = yaml.safe_load(run.out.split('\n---\n')[0])
-    assert message['joint_names'] == ['follower'] and message['header']['frame_id'] == 'cam'
-    points = message['points']
-    assert len(points) == cam_node.config.sample_count
-    profile = cam_node.profile(cam_node.config.sample_count)
-    np.testing.assert_array_equal([p['positions'][0] for p in points], profile.position)
-    assert points[90]['time_from_start'] == {'sec': 0, 'nanosec': 250_000_000}  # 90 deg at 1 Hz
+    rows = run.out.splitlines()
+    assert rows[0] == 'header.stamp.sec,header.stamp.nanosec,vector.x,vector.y,vector.z'
+    assert len(rows) > 1 + 10  # 50 Hz for the time left after discovery
 
 
 def test_echo_gives_up_after_the_timeout_when_nobody_publishes(ros_domain, capsys):
     run = run_cli(capsys, 'echo', '/nobody/here', '--timeout', SHORT_TIMEOUT_S)
     assert run.code == 1 and run.out == ''
     assert run.err == 'cam_ros echo: no publisher of /nobody/here within 0.5 s\n'
-
-
-def test_echo_stream_ends_at_the_timeout(cam_node, capsys):
-    run = run_cli(capsys, 'echo', '/cam/state_extras', '--csv', '--timeout', 1.0)
-    assert run.code == 0, run.err
-    rows = run.out.splitlines()
-    assert rows[0] == 'header.stamp.sec,header.stamp.nanosec,vector.x,vector.y,vector.z'
-    assert len(rows) > 1 + 5  # 50 Hz for most of a second, after discovery

@@ -1,0 +1,73 @@
+"""The argument parser: consistent help, one-line usage errors, exit codes."""
+from __future__ import annotations
+
+import inspect
+
+import pytest
+from cli_support import assert_one_error_line, run_cli
+
+from cam_ros.cli import _handler, build_parser, main, one_line
+
+COMMANDS = ('report', 'sample', 'plot', 'export', 'call', 'echo', 'info', 'replay')
+
+
+def test_top_level_help_lists_every_command_and_the_exit_codes(capsys):
+    run = run_cli(capsys, '--help')
+    assert run.code == 0 and run.err == ''
+    for command in COMMANDS:
+        assert f'    {command}' in run.out
+    assert 'exit codes:' in run.out and 'cam_ros <command>: <message>' in run.out
+
+
+@pytest.mark.parametrize('command', COMMANDS)
+def test_every_command_has_help_with_the_exit_codes(command, capsys):
+    run = run_cli(capsys, command, '--help')
+    assert run.code == 0 and run.err == ''
+    assert run.out.startswith(f'usage: cam_ros {command} ')
+    assert 'exit codes:' in run.out
+
+
+def test_version(capsys):
+    run = run_cli(capsys, '--version')
+    assert run.code == 0 and run.out.startswith('cam_ros ')
+
+
+@pytest.mark.parametrize('argv, command, fragment', [
+    ([], '', 'the following arguments are required: COMMAND'),
+    (['frobnicate'], '', "invalid choice: 'frobnicate'"),
+    (['report'], ' report', 'the following arguments are required: CONFIG'),
+    (['report', 'a.yaml', '--verbose'], '', 'unrecognized arguments: --verbose'),
+])
+def test_usage_errors_are_one_line_and_exit_2(argv, command, fragment, capsys):
+    run = run_cli(capsys, *argv)
+    assert run.code == 2 and run.out == ''
+    assert run.err.splitlines() == [run.err.rstrip('\n')]
+    assert run.err.startswith(f'cam_ros{command}: ') and fragment in run.err
+    assert run.err.rstrip().endswith(f'(see cam_ros{command} --help)')
+
+
+def test_main_reads_sys_argv_by_default(monkeypatch, capsys):
+    monkeypatch.setattr('sys.argv', ['cam_ros', 'report', '--help'])
+    assert main() == 0
+    assert capsys.readouterr().out.startswith('usage: cam_ros report')
+
+
+def test_parsed_options_are_exactly_the_command_functions_parameters():
+    parser = build_parser()
+    samples = {'report': ['c'], 'sample': ['c'], 'plot': ['c', '-o', 'x.png'],
+               'export': ['c', '-o', 'x.csv'], 'call': ['1'], 'echo': ['/t'], 'info': ['f'],
+               'replay': ['f']}
+    for command, rest in samples.items():
+        options = vars(parser.parse_args([command, *rest]))
+        function = _handler(options.pop('handler'))
+        options.pop('command')
+        assert set(options) == set(inspect.signature(function).parameters), command
+
+
+def test_multi_line_messages_become_one_line():
+    assert one_line('bad YAML: here\n  x: [\n     ^\nend') == 'bad YAML: here x: [ end'
+
+
+def test_invalid_config_error_names_the_command(tmp_path, capsys):
+    missing = tmp_path / 'missing.yaml'
+    assert_one_error_line(run_cli(capsys, 'sample', missing), 'sample', 'cannot be read')

@@ -1,0 +1,57 @@
+"""The --heavy switch: each reliability test runs a short bounded version, the full one with it."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import pytest
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """Add --heavy: longer loads, more fault repetitions, every bad config through a subprocess."""
+    parser.addoption('--heavy', action='store_true', default=False,
+                     help='reliability tests: run the full (minutes) instead of the short version')
+
+
+@dataclass(frozen=True)
+class Effort:
+    """How hard the reliability tests push: the short default or the --heavy run."""
+
+    heavy: bool
+    load_s: float  # seconds of concurrent evaluate calls
+    clients: int  # client processes of the load test
+    kills: int  # SIGKILLs of a recording node, each at a different moment
+    vanishing_clients: int  # clients killed while their big request is being answered
+    examples: int  # hypothesis max_examples of each property
+
+    def scaled(self, short: int, full: int) -> int:
+        """Return the short or the full number."""
+        return full if self.heavy else short
+
+
+@pytest.fixture(scope='session')
+def effort(pytestconfig: pytest.Config) -> Effort:
+    """Return the effort of this run (--heavy or not)."""
+    if pytestconfig.getoption('--heavy'):
+        return Effort(heavy=True, load_s=30.0, clients=3, kills=3, vanishing_clients=5,
+                      examples=1000)
+    return Effort(heavy=False, load_s=5.0, clients=3, kills=1, vanishing_clients=2, examples=100)
+
+
+@pytest.fixture
+def report(record_property: Callable[[str, object], None]) -> Callable[[str, object], None]:
+    """Return a function that records a measured figure (JUnit XML and the terminal summary)."""
+    return record_property
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """List the figures the reliability tests measured, whatever the capture or -q setting."""
+    rows = [(report.nodeid.rpartition('::')[2], name, value)
+            for outcome in ('passed', 'failed')
+            for report in terminalreporter.stats.get(outcome, [])
+            if report.when == 'call' and 'reliability/' in report.nodeid
+            for name, value in report.user_properties]
+    if rows:
+        terminalreporter.section('reliability figures')
+        for test, name, value in rows:
+            terminalreporter.write_line(f'{test}: {name} = {value}')

@@ -1,0 +1,163 @@
+"""Rejected parameter updates on a running node: a clear reason, and nothing else changes.
+
+Every case is sent to one live cam_node, as a single update (set_parameters, one result per
+parameter) where it holds one parameter, and always as an atomic one (set_parameters_atomically).
+After each rejection the node must answer evaluate exactly like the core's evaluation of its
+unchanged design, keep its parameter values, publish no parameter event and no new profile.
+"""
+from __future__ import annotations
+
+import math
+import threading
+import time
+from dataclasses import dataclass
+
+from rcl_interfaces.msg import ParameterEvent
+from rclpy.parameter import Parameter
+from rclpy.parameter_client import AsyncParameterClient
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Float64MultiArray
+
+from .support import (CALL_TIMEOUT_S, DEFAULT, assert_serves, design_with, evaluate,
+                      SAMPLE_ANGLES, wait_until, WITNESS_QOS)
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+#: Time allowed for a (wrongly) published profile or parameter event to arrive.
+QUIET_S = 0.5
+
+
+@dataclass(frozen=True)
+class Update:
+    """A rejected update: the parameters, and fragments its reason must contain."""
+
+    id: str
+    parameters: tuple[Parameter, ...]
+    reason: tuple[str, ...]
+
+
+def update(id_: str, *reason: str, **values: object) -> Update:
+    """Build an update of dotted parameters given as keywords with '__' for '.'."""
+    return Update(id_, tuple(Parameter(name.replace('__', '.'), value=value)
+                             for name, value in values.items()), reason)
+
+
+UPDATES = [
+    # Refused by rclpy from the declared descriptors (type, range, declaration).
+    update('int_for_double', 'Wrong parameter type', follower__base_radius=4),
+    update('string_for_double', 'Wrong parameter type', follower__base_radius='big'),
+    update('doubles_for_strings', 'Wrong parameter type', motion__laws=[1.0, 2.0, 3.0, 4.0]),
+    update('out_of_range', 'limits.pressure_angle_deg', 'out of range', '95.0',
+           limits__pressure_angle_deg=95.0),
+    update('nan_out_of_range', 'output.state_rate_hz', 'out of range', 'nan',
+           output__state_rate_hz=math.nan),
+    update('integer_out_of_range', 'output.sample_count', 'out of range',
+           output__sample_count=2),
+    # rclpy's reason does not list the name (its exception's text is 'parameter(s): []').
+    update('undeclared', 'Invalid access to undeclared parameter', follower__rollr_radius=1.0),
+    Update('undeclare', (Parameter('follower.base_radius'),), ('cannot be undeclared',)),
+    # Refused by the core (the whole design is rebuilt and checked).
+    update('negative_radius', 'follower.roller_radius = -1.0: must be >= 0',
+           follower__roller_radius=-1.0),
+    update('zero_base_radius', 'follower.base_radius = 0.0: must be > 0 (m)',
+           follower__base_radius=0.0),
+    update('nan_radius', 'follower.base_radius = nan: must be finite',
+           follower__base_radius=math.nan),
+    update('inf_offset', 'follower.offset = inf: must be finite', follower__offset=math.inf),
+    update('offset_at_prime_circle', 'follower.offset = 5.0: needs |offset| < base_radius',
+           follower__offset=5.0),
+    update('unknown_unit', "length_unit = 'furlong': must be one of m, cm, mm, in",
+           length_unit='furlong'),
+    update('unknown_law', "motion.laws[1] (cycloid): law = 'cycloid': must be one of",
+           motion__laws=['dwell', 'cycloid', 'dwell', 'simple_harmonic']),
+    update('gap', 'motion.start_deg[1] = 95.0', 'gap of 5 deg',
+           motion__start_deg=[0.0, 95.0, 180.0, 240.0]),
+    update('total', 'motion.end_deg[3] = 350.0', 'must cover 360 deg',
+           motion__end_deg=[90.0, 180.0, 240.0, 350.0]),
+    update('position_jump', 'motion.start_position[3] = 2.5', 'cannot jump',
+           motion__start_position=[0.0, 0.0, 2.0, 2.5]),
+    update('arrays_of_two_lengths', 'motion.start_deg = [0.0, 90.0, 180.0, 240.0]',
+           'must have 3 entries', motion__laws=['dwell', 'cycloidal', 'simple_harmonic']),
+    update('scca_without_fractions', 'motion.laws[1] (scca): b = nan: must be a finite number',
+           motion__laws=['dwell', 'scca', 'dwell', 'simple_harmonic']),
+    update('follower_without_arm', 'follower.pivot_distance = 0.0: must be > 0 (m)',
+           follower__type='oscillating_roller'),
+    # Atomic only: several parameters that are only wrong, or only right, together.
+    update('arm_cannot_reach', 'follower.base_radius = 4.0', 'so that the roller reaches the cam',
+           follower__type='oscillating_roller', follower__pivot_distance=10.0,
+           follower__arm_length=2.0),
+    update('good_with_bad', 'follower.roller_radius = -1.0', follower__base_radius=5.0,
+           follower__roller_radius=-1.0),
+    update('shifted_segments_with_a_gap', 'motion.start_deg[2] = 185.0', 'gap',
+           motion__laws=['cycloidal', 'dwell', 'simple_harmonic', 'dwell'],
+           motion__start_deg=[0.0, 90.0, 185.0, 240.0],
+           motion__end_deg=[90.0, 180.0, 240.0, 360.0],
+           motion__start_position=[0.0, 2.0, 2.0, 0.0],
+           motion__end_position=[2.0, 2.0, 0.0, 0.0]),
+]
+#: Changing this after all the rejections must be accepted (the node is not wedged).
+ACCEPTED = {'follower.base_radius': 5.0, 'follower.offset': 0.0}
+
+
+class Counter:
+    """Count the messages of one topic that pass a filter."""
+
+    def __init__(self, node, msg_type, topic, qos, keep=lambda message: True):
+        self.count = 0
+        self._lock = threading.Lock()
+        self._keep = keep
+        node.create_subscription(msg_type, topic, self._receive, qos)
+
+    def _receive(self, message) -> None:
+        if self._keep(message):
+            with self._lock:
+                self.count += 1
+
+
+def wait_future(future):
+    """Wait for a parameter client's future (the test executor spins it)."""
+    wait_until(future.done, CALL_TIMEOUT_S, 'a parameter service answer')
+    return future.result()
+
+
+def test_rejected_updates_change_nothing(start_cam_node, executor, report):
+    process, client = start_cam_node(DEFAULT)
+    node = executor.node('update_client')
+    parameters = AsyncParameterClient(node, 'cam')
+    assert parameters.wait_for_services(timeout_sec=CALL_TIMEOUT_S)
+    profiles = Counter(node, Float64MultiArray, '/cam/pressure_angle', LATCHED)
+    events = Counter(node, ParameterEvent, '/parameter_events', WITNESS_QOS,
+                     keep=lambda event: event.node == '/cam')
+    wait_until(lambda: profiles.count == 1, CALL_TIMEOUT_S, 'the latched pressure angle')
+    design = design_with()
+    names = sorted({p.name for case in UPDATES for p in case.parameters}
+                   - {'follower.rollr_radius'})
+    before = wait_future(parameters.get_parameters(names)).values
+
+    rejected = 0
+    for case in UPDATES:
+        attempts = [('atomic', lambda: [wait_future(
+            parameters.set_parameters_atomically(list(case.parameters))).result])]
+        if len(case.parameters) == 1:
+            attempts.append(('single', lambda: wait_future(
+                parameters.set_parameters(list(case.parameters))).results))
+        for kind, attempt in attempts:
+            results = attempt()
+            assert len(results) == 1, (case.id, kind, results)
+            assert not results[0].successful, (case.id, kind)
+            for fragment in case.reason:
+                assert fragment in results[0].reason, (case.id, kind, results[0].reason)
+            assert_serves(evaluate(client, SAMPLE_ANGLES), design)
+            rejected += 1
+    time.sleep(QUIET_S)
+    assert wait_future(parameters.get_parameters(names)).values == before
+    assert (profiles.count, events.count) == (1, 0)
+    assert process.process.poll() is None
+
+    result = wait_future(parameters.set_parameters_atomically(
+        [Parameter(name, value=value) for name, value in ACCEPTED.items()])).result
+    assert result.successful, result.reason
+    assert_serves(evaluate(client, SAMPLE_ANGLES), design_with(**ACCEPTED))
+    wait_until(lambda: (profiles.count, events.count) == (2, 1), CALL_TIMEOUT_S,
+               'one new profile and one parameter event')
+    report('rejected parameter updates (single + atomic)', rejected)

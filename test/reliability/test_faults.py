@@ -1,0 +1,244 @@
+"""Faults around a recording, serving cam_node: kills, signals, full disks, vanishing peers.
+
+An independent witness (a raw, reliable, keep-all subscriber in the test process) counts what the
+node published; the MCAP file is read back with the streaming reader when it has no summary.
+"""
+from __future__ import annotations
+
+import signal
+import time
+from pathlib import Path
+
+import yaml
+from geometry_msgs.msg import Vector3Stamped
+from sensor_msgs.msg import JointState
+from std_srvs.srv import SetBool
+
+from cam_ros.recording import open_recording
+from cam_ros.recording.writer import DEFAULT_CHUNK_SIZE
+
+from .support import (assert_serves, CALL_TIMEOUT_S, Child, DEFAULT, design_with, evaluate,
+                      percentiles, SAMPLE_ANGLES, start_limited_node, timed_evaluate, wait_until,
+                      wire_stamp_ns, Witness)
+
+STATE_TOPICS = {'/cam/joint_states': JointState, '/cam/state_extras': Vector3Stamped}
+#: Bytes of an MCAP message record around its data: opcode, length, channel id, sequence, log
+#: time and publish time (1 + 8 + 2 + 4 + 8 + 8).
+MESSAGE_RECORD_OVERHEAD = 31
+KILL_RATE_HZ = 500.0
+#: Seconds of recording before each SIGKILL; the kills land at different chunk fill levels.
+KILL_AFTER_S = (1.3, 2.05, 2.8)
+#: Messages published just before a kill that the recorder had not taken from DDS yet are not in
+#: any chunk; allow this much time of state messages for them.
+IN_FLIGHT_S = 0.05
+SETTLE_S = 0.3  # for the last messages on their way to the witness
+CLEAN_RUN_S = 1.0
+FILE_SIZE_LIMIT = 300_000  # bytes: the recording runs into it after about a second at 1000 Hz
+FULL_DISK_RATE_HZ = 1000.0
+FULL_DISK_TIMEOUT_S = 20.0
+BIG_BATCH = 1_000_000  # angles of a vanishing client's request (8 MB; about 1 s of work)
+VANISH_AFTER_S = 0.3  # the request is in, its answer not out yet
+BUSY_CALL_TIMEOUT_S = 60.0  # a call queued behind an abandoned big request
+#: A small request once the node is idle again: at most this round trip (s) for every call.
+IDLE_LATENCY_LIMIT_S = 0.25
+LATENCY_PROBES = 20
+LAZY_RATE_HZ = 200.0
+LAZY_RUN_S = 2.0
+#: Rate the node must keep up on the state topic while the lazy subscribers ignore it.
+MIN_RATE_FRACTION = 0.8
+
+
+def only_file(folder: Path) -> Path:
+    files = sorted(folder.glob('*.mcap'))
+    assert len(files) == 1, files
+    return files[0]
+
+
+def recorded(path: Path, topic: str) -> list[tuple[int, int]]:
+    """Return (stamp ns, size) of the messages of a topic in a recording, in file order."""
+    return [(wire_stamp_ns(m.message), len(m.message))
+            for m in open_recording(path).messages([topic], raw=True)]
+
+
+def test_sigkill_loses_at_most_the_open_chunk(start_cam_node, executor, tmp_path, effort,
+                                              report):
+    listener = executor.node('kill_witness')
+    witnesses = {topic: Witness(listener, kind, topic) for topic, kind in STATE_TOPICS.items()}
+    losses = []
+    for kill, run_s in enumerate(KILL_AFTER_S[:effort.kills]):
+        folder = tmp_path / f'run{kill}'
+        process, _ = start_cam_node(DEFAULT, '-p', 'recording.enabled:=true',
+                                    '-p', f'recording.directory:={folder}',
+                                    '-p', f'output.state_rate_hz:={KILL_RATE_HZ}',
+                                    name='cam')
+        seen = {topic: w.count() for topic, w in witnesses.items()}
+        wait_until(lambda: all(w.count() > seen[t] for t, w in witnesses.items()),
+                   CALL_TIMEOUT_S, 'state messages')
+        time.sleep(run_s)
+        process.stop(signal.SIGKILL)
+        time.sleep(SETTLE_S)
+        path = only_file(folder)
+        recording = open_recording(path)
+        assert not recording.complete
+        assert recording.attachments['cam_config.yaml'] == DEFAULT.read_text()
+        lost_bytes = lost_messages = 0
+        for topic, witness in witnesses.items():
+            witnessed = witness.snapshot()[seen[topic]:]
+            kept = recorded(path, topic)
+            assert [stamp for stamp, _ in kept] == sorted(stamp for stamp, _ in kept)
+            first = witnessed[0][0]
+            kept = [item for item in kept if item[0] >= first]
+            assert kept, topic
+            # Every message in the file was published, and none before the last is missing.
+            assert set(kept) <= set(witnessed), topic
+            before = [item for item in witnessed if item[0] <= kept[-1][0]]
+            assert before == kept, (topic, len(before), len(kept))
+            lost = witnessed[len(before):]
+            lost_messages += len(lost)
+            lost_bytes += sum(size + MESSAGE_RECORD_OVERHEAD for _, size in lost)
+            pair = max(size for _, size in witnessed) + MESSAGE_RECORD_OVERHEAD
+        in_flight = IN_FLIGHT_S * KILL_RATE_HZ * pair * len(STATE_TOPICS)
+        assert lost_bytes <= DEFAULT_CHUNK_SIZE + in_flight, (lost_bytes, lost_messages)
+        losses.append((lost_messages, lost_bytes))
+    report('SIGKILLs while recording at 500 Hz', len(losses))
+    report('messages (bytes) lost per kill; open chunk holds <= 65536 B',
+           ', '.join(f'{m} ({b} B)' for m, b in losses))
+
+
+def test_clean_stops_write_the_summary(start_cam_node, executor, tmp_path, report):
+    listener = executor.node('stop_witness')
+    witness = Witness(listener, JointState, '/cam/joint_states')
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        folder = tmp_path / sig.name
+        process, _ = start_cam_node(DEFAULT, '-p', 'recording.enabled:=true',
+                                    '-p', f'recording.directory:={folder}',
+                                    '-p', 'output.state_rate_hz:=100.0')
+        seen = witness.count()
+        wait_until(lambda: witness.count() > seen, CALL_TIMEOUT_S, 'state messages')
+        time.sleep(CLEAN_RUN_S)
+        assert process.stop(sig) == 0, process.log()
+        assert 'Traceback' not in process.log()
+        time.sleep(SETTLE_S)
+        path = only_file(folder)
+        recording = open_recording(path)
+        assert recording.complete, sig.name
+        kept = recorded(path, '/cam/joint_states')
+        assert recording.topics['/cam/joint_states'].count == len(kept)
+        bag = yaml.safe_load(recording.metadata['rosbag2']['serialized_metadata'])
+        assert bag['message_count'] == recording.message_count
+        witnessed = witness.snapshot()[seen:]
+        low, high = max(witnessed[0][0], kept[0][0]), min(witnessed[-1][0], kept[-1][0])
+        assert ([item for item in kept if low <= item[0] <= high]
+                == [item for item in witnessed if low <= item[0] <= high]), sig.name
+        report(f'{sig.name}: messages recorded, summary written', len(kept))
+
+
+def record_client(executor, name: str):
+    client = executor.node(name).create_client(SetBool, '/cam/record')
+    assert client.wait_for_service(timeout_sec=CALL_TIMEOUT_S)
+    return client
+
+
+def set_recording(client, on: bool) -> SetBool.Response:
+    response = client.call(SetBool.Request(data=on), timeout_sec=CALL_TIMEOUT_S)
+    assert response is not None, 'no answer from /cam/record'
+    return response
+
+
+def test_unwritable_directory_refuses_recording_and_the_node_serves_on(start_cam_node, executor,
+                                                                       tmp_path):
+    blocker = tmp_path / 'a_file'
+    blocker.write_text('not a folder')
+    bad = blocker / 'runs'  # root could write into a read-only folder; nobody into a file
+    process, client = start_cam_node(DEFAULT, '-p', 'recording.enabled:=true',
+                                     '-p', f'recording.directory:={bad}')
+    design = design_with()
+    assert_serves(evaluate(client, SAMPLE_ANGLES), design)
+    assert f'recording not started: cannot create recording {bad}' in process.log()
+
+    record = record_client(executor, 'record_client')
+    refused = set_recording(record, True)
+    assert not refused.success
+    assert f'cannot create recording {bad}/cam_' in refused.message
+    assert 'Not a directory' in refused.message
+    assert_serves(evaluate(client, SAMPLE_ANGLES), design)
+    assert not blocker.is_dir() and blocker.read_text() == 'not a folder'
+
+    # The same node records once pointed at a usable folder.
+    from rclpy.parameter import Parameter
+    from rclpy.parameter_client import AsyncParameterClient
+    parameters = AsyncParameterClient(executor.node('parameter_client'), 'cam')
+    assert parameters.wait_for_services(timeout_sec=CALL_TIMEOUT_S)
+    good = tmp_path / 'runs'
+    future = parameters.set_parameters([Parameter('recording.directory', value=str(good))])
+    wait_until(future.done, CALL_TIMEOUT_S, 'the parameter update')
+    assert future.result().results[0].successful
+    assert set_recording(record, True).success
+    stopped = set_recording(record, False)
+    assert stopped.success and 'stopped' in stopped.message
+    assert open_recording(only_file(good)).complete
+    assert process.stop(signal.SIGINT) == 0
+
+
+def test_full_disk_stops_the_recording_not_the_node(ros_domain, executor, tmp_path):
+    folder = tmp_path / 'runs'
+    process, client = start_limited_node(
+        DEFAULT, '-p', 'recording.enabled:=true', '-p', f'recording.directory:={folder}',
+        '-p', 'recording.compression:=none', '-p', f'output.state_rate_hz:={FULL_DISK_RATE_HZ}',
+        file_size_limit=FILE_SIZE_LIMIT, cwd=tmp_path, client_node=executor.node('fsize_client'))
+    try:
+        witness = Witness(executor.node('fsize_witness'), JointState, '/cam/joint_states')
+        wait_until(lambda: 'File too large' in process.log(), FULL_DISK_TIMEOUT_S,
+                   'the recorder to hit the file size limit')
+        path = only_file(folder)
+        assert path.stat().st_size == FILE_SIZE_LIMIT
+        assert '[ERROR]' in process.log() and f'recording {path} stopped: File too large' in (
+            process.log())
+        # The node goes on publishing and serving; the file stops growing and stays readable.
+        seen = witness.count()
+        wait_until(lambda: witness.count() > seen + 100, CALL_TIMEOUT_S, 'more state messages')
+        assert_serves(evaluate(client, SAMPLE_ANGLES), design_with(**{
+            'output.state_rate_hz': FULL_DISK_RATE_HZ}))
+        assert path.stat().st_size == FILE_SIZE_LIMIT
+        recording = open_recording(path)
+        assert not recording.complete and recording.topics['/cam/joint_states'].count > 0
+        assert process.stop(signal.SIGINT) == 0, process.log()
+        assert 'Traceback' not in process.log()
+        assert process.log().count('File too large') == 1
+    finally:
+        if process.process.poll() is None:
+            process.process.kill()
+            process.process.wait()
+
+
+def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
+        start_cam_node, executor, tmp_path, effort, report):
+    process, client = start_cam_node(DEFAULT, '-p', f'output.state_rate_hz:={LAZY_RATE_HZ}')
+    design = design_with(**{'output.state_rate_hz': LAZY_RATE_HZ})
+    baseline = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
+    lazy = Child('lazy', log_path=tmp_path / 'lazy.log')
+    try:
+        assert lazy.read() == {'ready': True}
+        for number in range(effort.vanishing_clients):
+            vanishing = Child('vanish', BIG_BATCH, log_path=tmp_path / f'vanish{number}.log')
+            try:
+                assert vanishing.read() == {'sent': True}
+                time.sleep(VANISH_AFTER_S)
+            finally:
+                vanishing.kill()
+            # Queued behind the abandoned request at worst, then answered as usual.
+            assert_serves(evaluate(client, SAMPLE_ANGLES, timeout=BUSY_CALL_TIMEOUT_S), design)
+        witness = Witness(executor.node('rate_witness'), JointState, '/cam/joint_states')
+        after = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
+        time.sleep(LAZY_RUN_S)
+        assert max(after) <= IDLE_LATENCY_LIMIT_S, after
+        rate = witness.count() / LAZY_RUN_S
+        assert rate >= MIN_RATE_FRACTION * LAZY_RATE_HZ, rate
+        assert process.process.poll() is None and lazy.process.poll() is None
+    finally:
+        lazy.kill()
+    assert process.stop(signal.SIGINT) == 0
+    report('clients killed mid-call (1e6-angle requests)', effort.vanishing_clients)
+    report('small-call latency before / after, ms', f'{percentiles(baseline, [50, 100])} / '
+                                                    f'{percentiles(after, [50, 100])}')
+    report('state rate with 3 stalled subscriptions, Hz', round(rate, 1))
