@@ -24,7 +24,7 @@ from sensor_msgs.msg import JointState
 QOS = QoSProfile(depth=10)
 #: Longest wait for the subscriber (s); pause after it is matched and before exiting (s).
 MATCH_TIMEOUT_S = 30.0
-SETTLE_S = 0.5
+SETTLE_S = 0.25
 #: The schedule's step (s): every step publishes the messages that have fallen due.
 STEP_S = 0.001
 

@@ -18,6 +18,7 @@ import textwrap
 from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, NoReturn, Sequence
 
+from cam_ros.commands.common import EXIT_INVALID
 from cam_ros.core import CamError
 
 EXIT_CODES = '''exit codes:
@@ -212,7 +213,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except UsageError as err:
         print(f'{err.prog}: {err.message} (see {err.prog} --help)', file=sys.stderr)
-        return 2
+        return EXIT_INVALID
     except SystemExit as done:  # --help, --version
         return int(done.code or 0)
     options = vars(args)
@@ -221,7 +222,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _handler(target)(**options)
     except CamError as err:
         print(f'cam_ros {command}: {one_line(str(err))}', file=sys.stderr)
-        return 2
+        return EXIT_INVALID
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
     except BrokenPipeError:  # the reader went away (e.g. `| head`): stop quietly

@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from cam_ros.commands.common import (degrees, dump_json, end_progress, format_table,
-                                     load_design, number, output_path, progress, verdict,
-                                     write_error)
+from cam_ros.commands.common import (degrees, dump_json, end_progress, EXIT_FAILED, EXIT_OK,
+                                     format_table, load_design, number, output_path, progress,
+                                     verdict, write_error)
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
@@ -156,7 +156,7 @@ def format_report(report: DesignReport, config: str) -> str:
                          f'{estimate.estimate.size_index:.3g}'
                          + (' (big cam)' if estimate.estimate.big_cam else '')))
     width = max(len(label) for label, _ in rows) + 2
-    lines = [f'cam_ros report: {config}', '']
+    lines = [f'Cam design report: {config}', '']
     lines += [f'{label:<{width}}{text}' for label, text in rows]
     lines += ['', 'Segments (peaks at the cam speed)', _segment_table(report)]
     lines += ['', 'Discontinuities', _continuity_table(report)]
@@ -173,7 +173,7 @@ def report(config: str, json_output: bool = False) -> int:
     result = design_report(design)
     end_progress()
     print(dump_json(report_data(result, config)) if json_output else format_report(result, config))
-    return 0 if result.ok else 1
+    return EXIT_OK if result.ok else EXIT_FAILED
 
 
 # ------------------------------------------------------------------------------------ sample

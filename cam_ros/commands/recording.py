@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from cam_ros.commands.common import dump_json, end_progress, progress
+from cam_ros.commands.common import dump_json, end_progress, EXIT_OK, progress
 from cam_ros.commands.ros import ros_node
 
 
@@ -13,7 +13,7 @@ def info(path: str, json_output: bool = False) -> int:
 
     data = recording_info(path)
     print(dump_json(data) if json_output else format_info(data))
-    return 0
+    return EXIT_OK
 
 
 def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
@@ -40,4 +40,4 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
         finally:
             end_progress()
     print(f'published {count} messages from {path}')
-    return 0
+    return EXIT_OK

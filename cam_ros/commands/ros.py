@@ -20,7 +20,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from cam_ros.commands.common import dump_json, format_table, number, say
+from cam_ros.commands.common import (dump_json, EXIT_FAILED, EXIT_OK, format_table, number,
+                                     say)
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
 
@@ -109,17 +110,17 @@ def call(angles: Sequence[float], degrees: bool = False, json_output: bool = Fal
                                      EvaluateCam.Request(angles=values.tolist()), deadline)
         if response is None:
             say('call', f'{problem} within {timeout:g} s')
-            return 1
+            return EXIT_FAILED
         unit = _position_unit(node, executor, service, deadline) if response.success else ''
     if not response.success:
         say('call', f'{service} refused: {response.message}')
-        return 1
+        return EXIT_FAILED
     columns = {'angle': values, **{name: np.asarray(getattr(response, name))
                                    for name in CALL_FIELDS}}
     units = _call_units(unit)
     if json_output:
         print(dump_json({'service': service, 'units': units, **columns}))
-        return 0
+        return EXIT_OK
     headers = ['angle (deg)', 'angle (rad)'] + [
         f'{name.replace("_", " ")} ({"deg" if name == "pressure_angle" else units[name]})'
         for name in CALL_FIELDS]
@@ -128,7 +129,7 @@ def call(angles: Sequence[float], degrees: bool = False, json_output: bool = Fal
             + [f'{math.degrees(row[-2]):.4f}', number(row[-1])]
             for row in np.column_stack(list(columns.values())).tolist()]
     print(format_table(headers, rows))
-    return 0
+    return EXIT_OK
 
 
 # ------------------------------------------------------------------------------------ echo
@@ -145,13 +146,22 @@ def subscription_qos(publishers: Sequence[Any]) -> QoSProfile:
         reliability=ReliabilityPolicy.BEST_EFFORT if best_effort else ReliabilityPolicy.RELIABLE)
 
 
-def _wait_for_topic(node: Node, name: str, deadline: float) -> list[str] | None:
-    """Return the types of topic name once it has a publisher, None at the deadline."""
-    while not node.get_publishers_info_by_topic(name):
+def _subscribe(node: Node, name: str, callback: Any, deadline: float) -> bool:
+    """Subscribe to topic name once it has a publisher (its type and QoS from the graph).
+
+    Return False if no publisher appeared before the deadline.
+    """
+    from cam_ros.recording.schema import import_type
+
+    while not (publishers := node.get_publishers_info_by_topic(name)):
         if time.monotonic() >= deadline:
-            return None
+            return False
         time.sleep(POLL_S)
-    return [info.topic_type for info in node.get_publishers_info_by_topic(name)]
+    types = sorted({info.topic_type for info in publishers})
+    if len(types) != 1:
+        raise InvalidParameter('TOPIC', name, f'has several types ({", ".join(types)})')
+    node.create_subscription(import_type(types[0]), name, callback, subscription_qos(publishers))
+    return True
 
 
 class _Printer:
@@ -176,31 +186,21 @@ class _Printer:
 def echo(topic: str, once: bool = False, csv_output: bool = False, count: int | None = None,
          timeout: float | None = None) -> int:
     """Print messages of a topic as they arrive; 1 if it or the messages asked for never came."""
-    from cam_ros.recording.schema import import_type
-
     name = topic if topic.startswith('/') else f'/{topic}'
     wanted = 1 if once else count
     deadline = math.inf if timeout is None else time.monotonic() + timeout
     printer = _Printer(csv_output)
-    with ros_node('echo') as (node, executor):
-        types = _wait_for_topic(node, name, deadline)
-        if types is None:
-            say('echo', f'no publisher of {name} within {timeout:g} s')
-            return 1
-        if len(set(types)) != 1:
-            raise InvalidParameter('TOPIC', name,
-                                   f'has several types ({", ".join(sorted(set(types)))})')
-        qos = subscription_qos(node.get_publishers_info_by_topic(name))
-        node.create_subscription(import_type(types[0]), name, printer, qos)
-        try:
+    try:
+        with ros_node('echo') as (node, executor):
+            if not _subscribe(node, name, printer, deadline):
+                say('echo', f'no publisher of {name} within {timeout:g} s')
+                return EXIT_FAILED
             while (wanted is None or printer.count < wanted) and time.monotonic() < deadline:
                 executor.spin_once(timeout_sec=min(POLL_S, _remaining(deadline)))
-        except KeyboardInterrupt:
-            return 0
-    if wanted is not None and printer.count < wanted:
-        say('echo', f'{printer.count} of {wanted} messages on {name} within {timeout:g} s')
-        return 1
-    if printer.count == 0:
-        say('echo', f'no message on {name} within {timeout:g} s')
-        return 1
-    return 0
+    except KeyboardInterrupt:  # Ctrl-C ends an echo normally
+        return EXIT_OK
+    if printer.count < (wanted or 1):  # only reached with a timeout
+        say('echo', f'{printer.count} of {wanted or "at least 1"} messages on {name} within '
+                    f'{timeout:g} s')
+        return EXIT_FAILED
+    return EXIT_OK

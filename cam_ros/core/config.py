@@ -112,7 +112,7 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('motion.table_u', 'double_array', [], 'Normalised abscissae 0..1 of the table law'),
     _p('motion.table_y', 'double_array', [], 'Normalised rise 0..1 of the table law'),
     _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
-       unit='deg', minimum=0.0, maximum=89.0),
+       unit='deg', minimum=1.0, maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
        'of the cam surface where convex', unit='length_unit', minimum=0.0),
     _p('output.sample_count', 'integer', 360, 'Samples per revolution on the profile topics',
@@ -200,7 +200,11 @@ def read_parameters_file(path: str | Path) -> dict[str, Any]:
     try:
         document = yaml.safe_load(text)
     except yaml.YAMLError as err:
-        raise InvalidParameter('config', str(path), f'is not valid YAML: {err}') from err
+        mark = getattr(err, 'problem_mark', None)
+        where = f' at line {mark.line + 1}, column {mark.column + 1}' if mark else ''
+        problem = getattr(err, 'problem', None) or 'syntax error'
+        raise InvalidParameter('config', str(path),
+                               f'is not valid YAML{where}: {problem}') from err
     if not isinstance(document, Mapping):
         raise InvalidParameter('config', str(path),
                                'must be a mapping with a node name at the top')

@@ -2,12 +2,15 @@
 from __future__ import annotations
 
 import json
+import re
+import signal
+import subprocess
 import threading
 import time
 
 import pytest
 import rclpy
-from cli_support import assert_one_error_line, run_cli
+from cli_support import assert_one_error_line, console_script, run_cli
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -23,6 +26,7 @@ LATCHED_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
 STREAM_COUNT = 5
 GRAPH_TIMEOUT_S = 10.0
 REPLAY_RATE = 20.0  # the 20 ms stream replays in ~1 ms steps
+LOOP_TIME_S = 3.0  # start-up (~1.5 s) and several passes of the ~10 ms recording at rate 10
 
 
 def wait_until(predicate, timeout: float = GRAPH_TIMEOUT_S) -> bool:
@@ -149,3 +153,20 @@ def test_a_file_that_is_not_a_recording_exits_2(command, tmp_path, capsys):
 def test_bad_replay_arguments_exit_2(argv, fragment, tmp_path, capsys):
     assert_one_error_line(run_cli(capsys, 'replay', tmp_path / 'x.mcap', *argv), 'replay',
                           fragment)
+
+
+def test_looping_replay_stops_cleanly_on_ctrl_c(recording):
+    process = subprocess.Popen([console_script(), 'replay', str(recording), '--loop',
+                                '--rate', '10'], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(LOOP_TIME_S)
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=GRAPH_TIMEOUT_S)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 0, err
+    count = int(re.fullmatch(r'published (\d+) messages from .*\n', out).group(1))
+    assert count > STREAM_COUNT + 1  # more than one pass
+    assert err == ''

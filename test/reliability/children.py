@@ -6,8 +6,9 @@ Modes (each prints JSON lines on stdout; ROS_DOMAIN_ID comes from the test's env
                              then calls /cam/evaluate with batches of random size for SECONDS,
                              checks every answer against the core's evaluation of CONFIG and
                              prints {"calls", "failures", "missing", "latencies_s"}.
-  vanish COUNT               sends one request of COUNT angles, prints {"sent": true} and waits
-                             for ever: the test kills it before the answer arrives.
+  vanish COUNT               prints {"ready": true} once the service is up, waits for a line on
+                             stdin, sends one request of COUNT angles, prints {"sent": true} and
+                             waits for ever: the test kills it before the answer arrives.
   lazy                       subscribes to the node's state topics twice, with a node that is never
                              spun (messages pile up in DDS) and with a callback that blocks for
                              ever; prints {"ready": true} once both see the publisher.
@@ -112,8 +113,10 @@ def vanish(count: int) -> None:
     node = rclpy.create_node('vanishing_client')
     spinning(node)
     client = service_client(node)
-    angles = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
-    client.call_async(EvaluateCam.Request(angles=angles))
+    request = EvaluateCam.Request(angles=np.linspace(0.0, 2.0 * np.pi, count, endpoint=False))
+    say(ready=True)
+    sys.stdin.readline()
+    client.call_async(request)
     say(sent=True)
     time.sleep(3600.0)
 

@@ -75,11 +75,6 @@ def wait_until(predicate: Callable[[], bool], timeout: float, what: str) -> None
         time.sleep(0.01)
 
 
-def stamp_ns(message: Any) -> int:
-    """Return a stamped message's header stamp in ns."""
-    return message.header.stamp.sec * 10**9 + message.header.stamp.nanosec
-
-
 def wire_stamp_ns(data: bytes) -> int:
     """Return the header stamp (ns) of a stamped message's CDR bytes (little endian)."""
     assert data[:2] == CDR_LITTLE_ENDIAN, data[:4]

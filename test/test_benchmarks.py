@@ -1,0 +1,55 @@
+"""Smoke test of `make bench`: every benchmark figure runs on tiny sizes, results are sane."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from benchmarks.__main__ import benchmark, Sizes
+from benchmarks.recording import RecordingSizes
+from benchmarks.service import ServiceSizes
+
+TINY = Sizes(
+    core_counts=(1000,), core_repeats=3, loop_count=1000, loop_repeats=3, geometry_count=360,
+    geometry_repeats=3,
+    service=ServiceSizes(calls=20, warmup_calls=5, block=10, batch=100, batch_repeats=3,
+                         big_batch=1000, big_batch_repeats=1, startup_trials=1),
+    recording=RecordingSizes(rates_hz=(500.0,), rate_seconds=0.3, loop_rate_hz=500.0,
+                             loop_seconds=0.1, loop_rounds=1))
+FIGURES = {
+    'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
+    'design_geometry_ms', 'service_p50_ms', 'service_p99_ms', 'batch_100_ms', 'batch_1000_ms',
+    'startup_s', 'node_peak_rss_mib', 'node_peak_rss_batch_1000_mib', 'recorder_messages_per_s',
+    'recording_publish_overhead',
+}
+FIGURE_FIELDS = {'key', 'name', 'value', 'unit', 'reference', 'reference_value', 'target', 'note',
+                 'inverse', 'extra', 'ratio', 'met'}
+TARGETED = {'service_p50_ms', 'recorder_messages_per_s', 'recording_publish_overhead'}
+
+
+def test_benchmarks_run_on_tiny_sizes_and_write_sane_results(tmp_path: Path) -> None:
+    json_path, markdown_path = tmp_path / 'results.json', tmp_path / 'results.md'
+    header, table = benchmark(TINY, json_path, markdown_path)
+
+    results = json.loads(json_path.read_text())
+    assert set(results) == {'date', 'machine', 'config', 'run_time_s', 'figures'}
+    assert results['machine']['cores'] >= 1 and results['machine']['cpu']
+    assert 0 < results['run_time_s'] == header['run_time_s']
+    assert set(results['figures']) == FIGURES
+    for key, figure in results['figures'].items():
+        assert set(figure) == FIGURE_FIELDS, key
+        assert figure['key'] == key
+        for field in ('value', 'reference_value', 'ratio'):
+            assert math.isfinite(figure[field]) and figure[field] > 0, (key, field, figure)
+        expected = figure['value'] / figure['reference_value']
+        if figure['inverse']:
+            expected = 1 / expected
+        assert math.isclose(figure['ratio'], expected), key
+        assert (figure['met'] is None) == (key not in TARGETED), key
+    assert results['figures']['node_peak_rss_batch_1000_mib']['value'] >= \
+        results['figures']['node_peak_rss_mib']['value']
+
+    assert markdown_path.read_text() == table
+    rows = [line for line in table.splitlines() if line.startswith('| ')]
+    assert rows[0].startswith('| Figure | Measured | Reference (same run) | Ratio |')
+    assert len(rows) == 1 + len(FIGURES)
