@@ -42,7 +42,7 @@ class ServiceSizes:
     batch_repeats: int = 20
     big_batch: int = 10 ** 6
     big_batch_repeats: int = 2
-    startup_trials: int = 3
+    startup_trials: int = 5
 
 
 @dataclass

@@ -190,16 +190,29 @@ class MotionProgram:
         local = angle - self.start
         if local.size and not (local.min() >= 0.0 and local.max() < TWO_PI):
             local = np.mod(local, TWO_PI)
-        index = np.searchsorted(self._offsets[1:], local, side='right')
-        u = np.clip((local - self._offsets[index]) / self._spans[index], 0.0, 1.0)
-        if len(self.segments) == 1:
-            return ProgramValues(*_segment_values(self.segments[0], u))
-        values = [np.empty_like(u) for _ in range(4)]
-        for number, segment in enumerate(self.segments):
-            inside = index == number
-            for out, part in zip(values, _segment_values(segment, u[inside])):
+        flat = local.ravel()
+        index = np.searchsorted(self._offsets[1:], flat, side='right')
+        values = [np.empty_like(flat) for _ in range(4)]
+        for number, inside in self._segment_parts(index):
+            u = np.clip((flat[inside] - self._offsets[number]) / self._spans[number], 0.0, 1.0)
+            for out, part in zip(values, _segment_values(self.segments[number], u)):
                 out[inside] = part
-        return ProgramValues(*values)
+        return ProgramValues(*(value.reshape(local.shape) for value in values))
+
+    def _segment_parts(self, index: npt.NDArray[np.intp]) -> list[tuple[int, slice | FloatArray]]:
+        """Return (segment number, where) for each segment that has samples.
+
+        Sorted angles (a profile, a sweep) give contiguous slices, which cost no gather or
+        scatter; any other order gives boolean masks. Segments without samples are skipped.
+        """
+        count = len(self.segments)
+        if index.size < 2 or bool(np.all(index[1:] >= index[:-1])):
+            edges = np.searchsorted(index, np.arange(count + 1))
+            return [(number, slice(int(low), int(high)))
+                    for number, (low, high) in enumerate(zip(edges[:-1], edges[1:]))
+                    if high > low]
+        present = np.flatnonzero(np.bincount(index, minlength=count))
+        return [(int(number), index == number) for number in present]
 
     def continuity_report(self) -> tuple[Discontinuity, ...]:
         """

@@ -28,7 +28,7 @@ DEFAULT = CONFIG_DIR / 'default.yaml'
 SUBPROCESS_TIMEOUT_S = 60.0
 SUBPROCESS_WORKERS = 4
 #: Without --heavy, every SUBPROCESS_STRIDE-th case also runs as a subprocess.
-SUBPROCESS_STRIDE = 6
+SUBPROCESS_STRIDE = 8
 
 Edit = Callable[[dict], Any]  # edits the ros__parameters mapping in place, or returns file text
 

@@ -34,7 +34,7 @@ KILL_AFTER_S = (1.3, 2.05, 2.8)
 #: any chunk; allow this much time of state messages for them.
 IN_FLIGHT_S = 0.05
 SETTLE_S = 0.3  # for the last messages on their way to the witness
-CLEAN_RUN_S = 1.0
+CLEAN_RUN_S = 0.5
 FILE_SIZE_LIMIT = 300_000  # bytes: the recording runs into it after about a second at 1000 Hz
 FULL_DISK_RATE_HZ = 1000.0
 FULL_DISK_TIMEOUT_S = 20.0
@@ -52,6 +52,7 @@ MIN_RATE_FRACTION = 0.8
 
 
 def only_file(folder: Path) -> Path:
+    """Return the one recording in a folder."""
     files = sorted(folder.glob('*.mcap'))
     assert len(files) == 1, files
     return files[0]
@@ -137,12 +138,14 @@ def test_clean_stops_write_the_summary(start_cam_node, executor, tmp_path, repor
 
 
 def record_client(executor, name: str):
+    """Return a client of /cam/record whose service is up."""
     client = executor.node(name).create_client(SetBool, '/cam/record')
     assert client.wait_for_service(timeout_sec=CALL_TIMEOUT_S)
     return client
 
 
 def set_recording(client, on: bool) -> SetBool.Response:
+    """Ask /cam/record to start or stop and return its answer."""
     response = client.call(SetBool.Request(data=on), timeout_sec=CALL_TIMEOUT_S)
     assert response is not None, 'no answer from /cam/record'
     return response
