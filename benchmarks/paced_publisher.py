@@ -2,9 +2,11 @@
 Publish one serialized JointState at a fixed rate: the source of the recorder throughput benchmark.
 
 Run as ``python -m benchmarks.paced_publisher TOPIC RATE_HZ SECONDS --ros-args -r __node:=NAME``.
-Waits for a subscriber, lets discovery settle, publishes RATE_HZ * SECONDS messages on a 1 ms
-schedule (reliable, keep last 10: cam_node's state QoS), prints one JSON line
-{"published": n, "seconds": s} and lingers so that reliable delivery completes.
+Prints {"matched": true} once a subscriber is matched, then waits for a line on stdin (the
+benchmark checks that the subscriber has matched this publisher too: a reliable keep-last-10
+writer loses what it sends before), publishes RATE_HZ * SECONDS messages on a 1 ms schedule
+(cam_node's state QoS), prints {"published": n, "seconds": s} and lingers so that reliable
+delivery completes.
 """
 from __future__ import annotations
 
@@ -22,9 +24,9 @@ from sensor_msgs.msg import JointState
 
 #: cam_node's state topic QoS (node.py STATE_QOS).
 QOS = QoSProfile(depth=10)
-#: Longest wait for the subscriber (s); pause after it is matched and before exiting (s).
+#: Longest wait for the subscriber (s); pause before exiting (s).
 MATCH_TIMEOUT_S = 30.0
-SETTLE_S = 0.25
+LINGER_S = 0.25
 #: The schedule's step (s): every step publishes the messages that have fallen due.
 STEP_S = 0.001
 
@@ -49,7 +51,7 @@ def publish_paced(publisher: object, data: bytes, rate_hz: float, count: int) ->
 
 
 def main(args: Sequence[str] | None = None) -> int:
-    """Publish at the given rate once a subscriber is matched; report what was sent."""
+    """Publish at the given rate when told to, once a subscriber is matched; report it."""
     argv = list(sys.argv if args is None else args)
     topic, rate_hz, seconds = remove_ros_args(argv)[1:4]
     rclpy.init(args=argv)
@@ -62,11 +64,13 @@ def main(args: Sequence[str] | None = None) -> int:
                 print(f'no subscriber on {topic} after {MATCH_TIMEOUT_S} s', file=sys.stderr)
                 return 1
             time.sleep(0.01)
-        time.sleep(SETTLE_S)
+        print(json.dumps({'matched': True}), flush=True)
+        if not sys.stdin.readline():
+            return 1
         count = max(1, round(float(rate_hz) * float(seconds)))
         elapsed = publish_paced(publisher, sample_message(), float(rate_hz), count)
         print(json.dumps({'published': count, 'seconds': elapsed}), flush=True)
-        time.sleep(SETTLE_S)
+        time.sleep(LINGER_S)
     finally:
         node.destroy_node()
         rclpy.try_shutdown()

@@ -7,13 +7,17 @@ background thread (as rclpy.spin would) and talks JSON lines over stdin/stdout.
 
 ``sink MODE TOPIC PATH``: MODE 'recorder' attaches a Recorder of TOPIC (sensor_msgs/JointState,
 offered with cam_node's state QoS) writing to PATH; MODE 'bare' a raw subscription that only
-counts. Prints {"ready": true}, then answers every 'count' line with {"count": n, "cpu_s": s}
-until stdin closes.
+counts, one executor callback per message; MODE 'drain' a raw subscription whose messages the
+Recorder's intake takes in batches, only counted (the Recorder without writing). Prints
+{"ready": true}, then answers every 'count' line with {"count": n, "cpu_s": s} and every
+'matched' line with {"matched": b} once its subscription has matched a publisher (or after
+WAIT_S), until stdin closes.
 
 ``loop TOPIC PATH RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages at
 RATE_HZ on TOPIC, ROUNDS times in turn with nothing subscribed ('off'), a bare raw subscription
-('bare') and a Recorder of TOPIC ('on') on the same node; prints the time per build-and-publish
-and the process CPU per message of each, and the fraction of the 'on' messages recorded.
+with a callback per message ('bare') or taken in batches ('drain'), and a Recorder of TOPIC
+('on') on the same node; prints the time per build-and-publish and the process CPU per message of
+each, and the fraction of the 'on' messages recorded.
 """
 from __future__ import annotations
 
@@ -37,16 +41,18 @@ from sensor_msgs.msg import JointState
 
 from cam_ros.node import CamNode, params_file_from, STATE_QOS
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.recording.intake import RawIntake, Taken
 from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
 
 #: The bare subscription's QoS: what the Recorder subscribes with for STATE_QOS.
 BARE_QOS = QoSProfile(depth=max(STATE_QOS.depth, MIN_SUBSCRIPTION_DEPTH))
-#: Longest wait for the recorder to match the publisher and write every message (s).
+#: Longest wait for a subscription to match a publisher (s).
 WAIT_S = 10.0
-#: The publish loop's modes: no subscriber, a bare raw subscription, a Recorder (same node).
-LOOP_MODES = ('off', 'bare', 'on')
-#: Pause between the recorder matching the publisher and the first message (s).
-SETTLE_S = 0.2
+#: Longest wait for the recorder to write the last messages of a publish loop (s).
+DRAIN_S = 1.0
+#: The publish loop's modes: no subscriber, bare raw subscriptions (a callback per message;
+#: taken in batches), a Recorder (all on the same node).
+LOOP_MODES = ('off', 'bare', 'drain', 'on')
 
 
 def reply(**values: Any) -> None:
@@ -66,22 +72,43 @@ def ignore(data: bytes) -> None:
     """Drop a message (the bare subscription of the publish loop)."""
 
 
+def ignore_batch(index: int, batch: list[Taken]) -> None:
+    """Drop a batch of messages (the batched bare subscription of the publish loop)."""
+
+
+def reader_matched(node: CamNode, topic: str) -> bool:
+    """Return whether a subscription of the node on topic has matched a publisher."""
+    name = node.resolve_topic_name(topic)
+    return any(subscription.topic_name == name and subscription.get_publisher_count() > 0
+               for subscription in node.subscriptions)
+
+
 def sink(node: CamNode, mode: str, topic: str, path: str) -> None:
-    """Record or just count topic, answering 'count' requests until stdin closes."""
-    recorder = None
+    """Record or just count topic, answering 'count' and 'matched' until stdin closes."""
+    recorder = intake = None
     received = [0]
+
+    def count(data: bytes) -> None:
+        received[0] += 1
+
+    def count_batch(index: int, batch: list[Taken]) -> None:
+        received[0] += len(batch)
+
     if mode == 'recorder':
         recorder = Recorder(node, path, [TopicSpec(topic, JointState, STATE_QOS)])
+    elif mode == 'drain':
+        intake = RawIntake(node, [(topic, JointState, BARE_QOS)], count_batch)
     else:
-        def count(data: bytes) -> None:
-            received[0] += 1
-
         node.create_subscription(JointState, topic, count, BARE_QOS, raw=True)
     reply(ready=True)
     for line in sys.stdin:
         if line.strip() == 'count':
             reply(count=received[0] if recorder is None else recorder.message_count,
                   cpu_s=time.process_time())
+        elif line.strip() == 'matched':
+            reply(matched=wait_until(lambda: reader_matched(node, topic)))
+    if intake is not None:
+        intake.stop()
     if recorder is not None:
         recorder.close()
         if recorder.failed:
@@ -126,19 +153,22 @@ def loop(node: CamNode, topic: str, path: str, rate_hz: float, count: int, round
                     subscription = node.create_subscription(JointState, topic, ignore, BARE_QOS,
                                                             raw=True)
                     stack.callback(node.destroy_subscription, subscription)
+                elif mode == 'drain':
+                    stack.callback(RawIntake(node, [(topic, JointState, BARE_QOS)],
+                                             ignore_batch).stop)
                 elif mode == 'on':
                     recorder = stack.enter_context(Recorder(
                         node, Path(path).with_suffix(f'.{round_}.mcap'),
                         [TopicSpec(topic, JointState, STATE_QOS)]))
-                if mode != 'off':
-                    if not wait_until(lambda: publisher.get_subscription_count() > 0):
-                        raise SystemExit(f'{mode}: nothing matched the publisher')
-                    time.sleep(SETTLE_S)
+                if mode != 'off' and not wait_until(
+                        lambda: publisher.get_subscription_count() > 0
+                        and reader_matched(node, topic)):
+                    raise SystemExit(f'{mode}: nothing matched the publisher')
                 times, seconds = publish_loop(publisher, rate_hz, count)
                 busy[mode].extend(times)
                 cpu[mode].append(seconds)
                 if mode == 'on':
-                    wait_until(lambda: recorder.message_count >= count)
+                    wait_until(lambda: recorder.message_count >= count, DRAIN_S)
                     recorded += recorder.message_count
             wait_until(lambda: publisher.get_subscription_count() == 0)
     reply(recorded_fraction=recorded / (rounds * count),

@@ -2,7 +2,6 @@
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from functools import partial
 import os
 from pathlib import Path
 import threading
@@ -11,14 +10,13 @@ from typing import Any, BinaryIO, cast, IO, Optional, Union
 
 from mcap.writer import CompressionType, LIBRARY_IDENTIFIER, Writer
 from rcl_interfaces.msg import ParameterEvent
-from rclpy.clock import Clock, ClockType
+from rclpy.clock import ROSClock
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, qos_profile_parameter_events, QoSProfile
-from rclpy.subscription import Subscription
-from rclpy.timer import Timer
 import yaml
 
 from cam_ros.core.errors import InvalidParameter, RecordingError
+from cam_ros.recording.intake import RawIntake, Taken
 from cam_ros.recording.qos import dump_qos, qos_to_dict
 from cam_ros.recording.schema import message_definition, type_hash, type_name
 
@@ -31,8 +29,11 @@ COMPRESSIONS = {
 DEFAULT_CHUNK_SIZE = 64 * 1024
 #: Seconds between forced chunk flushes, bounding the loss on slow topics too.
 DEFAULT_FLUSH_PERIOD = 1.0
-#: Smallest queue depth of the recorder's own subscriptions (a short queue drops bursts).
-MIN_SUBSCRIPTION_DEPTH = 100
+#: Smallest queue depth of the recorder's own subscriptions: it holds what arrives between two
+#: takes of the intake thread (every intake.POLL_PERIOD, but a full garbage collection of the
+#: process stops it for tens of ms: 1000 messages at 20,000 msg/s) and bursts; a short queue
+#: drops them. Memory is only taken as a backlog builds up.
+MIN_SUBSCRIPTION_DEPTH = 2000
 #: Version of the rosbag2 bag metadata written (Jazzy).
 METADATA_VERSION = 9
 PROFILE = 'ros2'
@@ -132,9 +133,11 @@ class Recorder:
     """
     Record topics into one MCAP file that rosbag2, Foxglove and rosbags can read.
 
-    Raw subscriptions (matching the offered QoS, so latched topics are received) hand the exact
-    wire bytes to an mcap Writer; log time is the node clock at reception, publish time the
-    publisher's source timestamp. Chunks are written and flushed as they fill and at least every
+    Raw subscriptions of the node (matching the offered QoS, so latched topics are received)
+    hand the exact wire bytes to an mcap Writer, in batches taken by a thread of the recorder's
+    own (RawIntake), never by the node's executor. Log time is the time of reception (the DDS
+    reception stamp; the node clock when it runs on simulated time), publish time the publisher's
+    source timestamp. Chunks are written and flushed as they fill and at least every
     `flush_period` seconds, so a killed process loses at most the open chunk. A write error stops
     the recording (logged, `error` set), never the node. Use as a context manager or call close().
     """
@@ -170,6 +173,7 @@ class Recorder:
         self._opened_ns = self._clock.now().nanoseconds
         self._first_ns: Optional[int] = None
         self._last_ns: Optional[int] = None
+        self._ros_clock = self._clock if isinstance(self._clock, ROSClock) else None
         names = [node.resolve_topic_name(spec.name) for spec in specs]
         types = [type_name(spec.msg_type) for spec in specs]
         schemas = {name: message_definition(name) for name in dict.fromkeys(types)}
@@ -182,19 +186,15 @@ class Recorder:
         self._file, writer, self._channels = self._open(specs, schemas, compression, chunk_size,
                                                         dict(attachments or {}))
         self._writer: Optional[Writer] = writer
-        self._subscriptions: list[Subscription] = []
-        self._timer: Optional[Timer] = None
         try:
-            for index, (name, spec) in enumerate(zip(names, specs)):
-                self._subscriptions.append(node.create_subscription(
-                    spec.msg_type, name, partial(self._on_message, index),
-                    _subscription_qos(spec.qos), raw=True))
-            if flush_period is not None:
-                self._timer = node.create_timer(flush_period, self._on_flush_timer,
-                                                clock=Clock(clock_type=ClockType.STEADY_TIME))
+            self._intake = RawIntake(
+                node, [(name, spec.msg_type, _subscription_qos(spec.qos))
+                       for name, spec in zip(names, specs)],
+                self._write, every=None if flush_period is None else (flush_period, self._flush),
+                name=f'recorder {self.path.name}')
         except BaseException:
-            with self._lock:
-                self._release()
+            self._writer = None
+            _close_quietly(self._file)
             self.path.unlink(missing_ok=True)
             raise
 
@@ -241,25 +241,35 @@ class Recorder:
         return bag_metadata(self.path.name, self._topics, self._counts, start, end - start,
                             self._description)
 
-    def _on_message(self, index: int, data: bytes, info: Mapping[str, Any]) -> None:
-        """Write one received message (subscription callback)."""
-        log_time = self._clock.now().nanoseconds
+    def _write(self, index: int, batch: Sequence[Taken]) -> None:
+        """Write a batch of messages received on one topic (the intake's hand-over)."""
+        now = self._clock.now().nanoseconds
+        if self._ros_clock is not None and self._ros_clock.ros_time_is_active:
+            log_times = [now] * len(batch)
+        else:
+            log_times = [info.get('received_timestamp') or now for _, info in batch]
+        channel = self._channels[index]
         with self._lock:
             if self._writer is None:
                 return
-            self._counts[index] += 1
-            self._first_ns = log_time if self._first_ns is None else self._first_ns
-            self._last_ns = log_time
+            add_message, accepted = self._writer.add_message, 0
             try:
-                self._writer.add_message(
-                    self._channels[index], log_time=log_time, data=data,
-                    publish_time=info.get('source_timestamp') or log_time,
-                    sequence=(info.get('publication_sequence_number') or 0) & 0xFFFFFFFF)
+                for (data, info), log_time in zip(batch, log_times):
+                    accepted += 1
+                    add_message(
+                        channel, log_time=log_time, data=data,
+                        publish_time=info.get('source_timestamp') or log_time,
+                        sequence=(info.get('publication_sequence_number') or 0) & 0xFFFFFFFF)
             except OSError as exc:
                 self._fail(exc)
+            if accepted:
+                self._counts[index] += accepted
+                first, last = min(log_times[:accepted]), max(log_times[:accepted])
+                self._first_ns = first if self._first_ns is None else min(self._first_ns, first)
+                self._last_ns = last if self._last_ns is None else max(self._last_ns, last)
 
-    def _on_flush_timer(self) -> None:
-        """Write out the open chunk (timer callback)."""
+    def _flush(self) -> None:
+        """Write out the open chunk (every flush_period)."""
         with self._lock:
             if self._writer is not None:
                 try:
@@ -275,18 +285,14 @@ class Recorder:
         self._release()
 
     def _release(self) -> None:
-        """Destroy the subscriptions and timer and close the file (lock held)."""
+        """Stop the intake (which destroys the subscriptions) and close the file (lock held)."""
         self._writer = None
-        for subscription in self._subscriptions:
-            self._node.destroy_subscription(subscription)
-        self._subscriptions = []
-        if self._timer is not None:
-            self._node.destroy_timer(self._timer)
-            self._timer = None
+        self._intake.stop()
         _close_quietly(self._file)
 
     def close(self) -> None:
-        """Stop recording and write the summary (safe to call twice; errors land in `error`)."""
+        """Write what was received, then the summary (safe to call twice; errors in `error`)."""
+        self._intake.stop()
         with self._lock:
             writer = self._writer
             if writer is None:
