@@ -8,7 +8,6 @@ from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
-from scipy.optimize import minimize_scalar
 
 from .errors import InvalidParameter
 
@@ -47,17 +46,28 @@ def finite_float(parameter: str, value: object) -> float:
     return number
 
 
+def float_array(parameter: str, values: npt.ArrayLike, rule: str) -> FloatArray:
+    """Return values as a float array (no copy when already one), or raise naming the parameter."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise InvalidParameter(parameter, values, rule) from err
+
+
 def checked_array(parameter: str, values: npt.ArrayLike,
                   valid: Callable[[FloatArray], npt.NDArray[np.bool_]], rule: str) -> FloatArray:
     """Return values as a float array, or raise naming the parameter and the first bad value."""
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise InvalidParameter(parameter, values, rule) from err
+    array = float_array(parameter, values, rule)
     good = valid(array)
     if not np.all(good):
         raise InvalidParameter(parameter, float(array[~good].flat[0]), rule)
     return array
+
+
+def workspace(u: npt.ArrayLike) -> LawValues:
+    """Return arrays for `_derivatives_into`: a copy of u in y, then room for the derivatives."""
+    array = np.array(u, dtype=float)
+    return LawValues(array, *(np.empty(array.shape) for _ in range(3)))
 
 
 def full_like(u: FloatArray, value: float) -> FloatArray:
@@ -85,6 +95,16 @@ class MotionLaw(ABC):
     @abstractmethod
     def _derivatives(self, u: FloatArray) -> LawValues:
         """Return y, y', y'', y''' at u, already checked to lie in [0, 1]."""
+
+    def _derivatives_into(self, values: LawValues) -> None:
+        """
+        Overwrite values, u (checked to lie in [0, 1]) in values.y, by y, y', y'', y''' at u.
+
+        The motion program's path, straight into its output arrays; this default copies the
+        results of `_derivatives`, an InPlaceLaw computes them there without temporaries.
+        """
+        for target, result in zip(values, self._derivatives(values.y.copy())):  # a result may be u
+            np.copyto(target, result)
 
     @property
     def breakpoints(self) -> tuple[float, ...]:
@@ -114,6 +134,20 @@ class MotionLaw(ABC):
     def cj(self) -> float:
         """Peak of |y'''| over [0, 1] (jerk coefficient; inf if y' or y'' jumps inside)."""
         return self._characteristic_values[2]
+
+
+@dataclass(frozen=True)
+class InPlaceLaw(MotionLaw):
+    """A law computed in the caller's arrays: `_derivatives_into` is its one formula."""
+
+    def _derivatives(self, u: FloatArray) -> LawValues:
+        values = workspace(u)
+        self._derivatives_into(values)
+        return values
+
+    @abstractmethod
+    def _derivatives_into(self, values: LawValues) -> None:
+        """Overwrite values, u in values.y, by y, y', y'', y''' at u (see MotionLaw)."""
 
 
 def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:
@@ -149,6 +183,8 @@ def _candidate_peaks(magnitude: FloatArray) -> list[tuple[int, int]]:
 def characteristic_values(derivatives: Derivatives,
                           breakpoints: tuple[float, ...]) -> tuple[float, float, float]:
     """Return the peaks of |y'|, |y''|, |y'''| of a law given by its derivatives function."""
+    from scipy.optimize import minimize_scalar  # here: scipy costs the node 0.5 s start-up
+
     grid = piece_grid(breakpoints, PEAK_SAMPLES)
     values = derivatives(grid)
     peaks: list[float] = []

@@ -7,9 +7,8 @@ from typing import ClassVar, Sequence
 
 import numpy as np
 from numpy.polynomial import polynomial
-from scipy.special import perm
 
-from ._law_base import finite_float, FloatArray, LawValues, MotionLaw
+from ._law_base import finite_float, FloatArray, InPlaceLaw, LawValues
 from .errors import InvalidParameter
 
 #: Largest |y(0)| and |y(1) - 1| accepted for a polynomial rise.
@@ -34,7 +33,7 @@ def _finite_floats(parameter: str, values: Sequence[float]) -> tuple[float, ...]
 
 
 @dataclass(frozen=True)
-class PolynomialLaw(MotionLaw):
+class PolynomialLaw(InPlaceLaw):
     """
     Polynomial rise y(u) = sum_k coefficients[k] * u**k.
 
@@ -69,7 +68,7 @@ class PolynomialLaw(MotionLaw):
                                    f'need exactly one condition per power {exponents}')
         at, order, value = (np.array(column, dtype=float) for column in zip(*rows))
         exponent = np.array(exponents, dtype=float)
-        ratio = perm(exponent[None, :], order[:, None])
+        ratio = np.array([[_falling_factorial(p, k) for p in exponents] for _, k, _ in rows])
         power = np.maximum(exponent[None, :] - order[:, None], 0.0)
         matrix = ratio * at[:, None] ** power
         if np.linalg.cond(matrix) > MAX_CONDITION_NUMBER:
@@ -84,9 +83,27 @@ class PolynomialLaw(MotionLaw):
         coefficients = np.array(self.coefficients)
         return tuple(polynomial.polyder(coefficients, order) for order in range(4))
 
-    def _derivatives(self, u: FloatArray) -> LawValues:
-        return LawValues(*(np.asarray(polynomial.polyval(u, coefficients), dtype=float)
-                           for coefficients in self._derivative_coefficients))
+    def _derivatives_into(self, values: LawValues) -> None:
+        u = values.y.copy()
+        for out, coefficients in zip(values, self._derivative_coefficients):
+            _horner(u, coefficients, out)
+
+
+def _horner(u: FloatArray, coefficients: FloatArray, out: FloatArray) -> None:
+    """
+    Write the polynomial with coefficients (lowest power first) at u into out.
+
+    The steps of numpy.polynomial.polynomial.polyval (Horner), without its temporaries.
+    """
+    out.fill(coefficients[-1])
+    for coefficient in coefficients[-2::-1]:
+        out *= u
+        out += coefficient
+
+
+def _falling_factorial(p: int, k: int) -> float:
+    """Return p (p - 1) ... (p - k + 1), the factor of d^k/du^k u^p (0 for k > p, inf if huge)."""
+    return math.prod(range(p - k + 1, p + 1), start=1.0) if k <= p else 0.0
 
 
 def _checked_condition(index: int, condition: Condition) -> Condition:

@@ -6,13 +6,14 @@ from functools import cached_property
 from typing import ClassVar, Sequence
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ._law_base import finite_float, FloatArray, LawValues, MotionLaw
 from .errors import InvalidParameter
 
 #: Largest |b + c + d - 1| accepted for an SCCA law.
 FRACTION_SUM_TOLERANCE = 1e-9
+#: Smallest SCCA fraction taken as a zone; shorter ones are numerically zero.
+MIN_FRACTION = 1e-12
 #: Tolerance (in y') of the search for the via-point velocity.
 VIA_VELOCITY_XATOL = 1e-12
 
@@ -118,8 +119,10 @@ class SccaLaw(MotionLaw):
 
     @cached_property
     def _pieces(self) -> tuple[AccelerationPiece, ...]:
-        total = self.b + self.c + self.d
-        b, c, d = self.b / total, self.c / total, self.d / total
+        # A fraction under MIN_FRACTION counts as 0: pi / fraction would overflow.
+        b, c, d = (x if x >= MIN_FRACTION else 0.0 for x in (self.b, self.c, self.d))
+        total = b + c + d
+        b, c, d = b / total, c / total, d / total
         half_pi = 0.5 * math.pi
         zones = [  # (length, const, terms) with unit peak acceleration
             (0.5 * b, 0.0, [(1.0, math.pi / b, 0.0)] if b else []),
@@ -226,6 +229,8 @@ class ViaPointLaw(MotionLaw):
             a1, b1 = _part_amplitudes(first, self.y_via, velocity)
             a2, b2 = _part_amplitudes(second, 1.0 - self.y_via, velocity)
             return max(_lobe_peak(a1, b1), _lobe_peak(-a2, b2))
+
+        from scipy.optimize import minimize_scalar  # here: scipy costs the node 0.5 s start-up
 
         limit = 8.0 / 3.0 * min(self.y_via / first, (1.0 - self.y_via) / second)
         found = minimize_scalar(peak_acceleration, bounds=(0.0, limit), method='bounded',

@@ -12,15 +12,17 @@ import math
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
-from typing import Callable, ClassVar, Mapping, Sequence
+from typing import Callable, ClassVar, Mapping, Sequence, TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import make_interp_spline, PPoly
 
-from ._law_base import FloatArray, full_like, LawValues, MotionLaw
+from ._law_base import FloatArray, full_like, InPlaceLaw, LawValues, MotionLaw
 from ._polynomial import Condition, Polynomial345, Polynomial4567, PolynomialLaw
 from ._sine_acceleration import ModifiedSine, ModifiedTrapezoid, SccaLaw, ViaPointLaw
 from .errors import InvalidParameter
+
+if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
 
 __all__ = [
     'ConstantAcceleration', 'ConstantVelocity', 'Cycloidal', 'Dwell', 'LAWS', 'LawValues',
@@ -32,24 +34,26 @@ TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
-class Dwell(MotionLaw):
+class Dwell(InPlaceLaw):
     """Dwell: the follower rests, y = 0 on the whole segment."""
 
     name: ClassVar[str] = 'dwell'
 
-    def _derivatives(self, u: FloatArray) -> LawValues:
-        zero = full_like(u, 0.0)
-        return LawValues(zero, zero.copy(), zero.copy(), zero.copy())
+    def _derivatives_into(self, values: LawValues) -> None:
+        for array in values:
+            array.fill(0.0)
 
 
 @dataclass(frozen=True)
-class ConstantVelocity(MotionLaw):
+class ConstantVelocity(InPlaceLaw):
     """Constant velocity y = u: y' = 1 jumps against a dwell (an acceleration impulse there)."""
 
     name: ClassVar[str] = 'constant_velocity'
 
-    def _derivatives(self, u: FloatArray) -> LawValues:
-        return LawValues(u.copy(), full_like(u, 1.0), full_like(u, 0.0), full_like(u, 0.0))
+    def _derivatives_into(self, values: LawValues) -> None:
+        values.y1.fill(1.0)
+        values.y2.fill(0.0)
+        values.y3.fill(0.0)
 
 
 @dataclass(frozen=True)
@@ -73,28 +77,41 @@ class ConstantAcceleration(MotionLaw):
 
 
 @dataclass(frozen=True)
-class SimpleHarmonic(MotionLaw):
+class SimpleHarmonic(InPlaceLaw):
     """Simple harmonic: y = (1 - cos(pi u)) / 2; y'' = pi^2/2 at the ends (steps vs a dwell)."""
 
     name: ClassVar[str] = 'simple_harmonic'
 
-    def _derivatives(self, u: FloatArray) -> LawValues:
-        angle = math.pi * u
-        sin, cos = np.sin(angle), np.cos(angle)
-        return LawValues(0.5 * (1.0 - cos), 0.5 * math.pi * sin, 0.5 * math.pi ** 2 * cos,
-                         -0.5 * math.pi ** 3 * sin)
+    def _derivatives_into(self, values: LawValues) -> None:
+        # y' = pi/2 sin(pi u), y'' = pi^2/2 cos(pi u), y''' = -pi^3/2 sin(pi u), in place.
+        y, sin, cos, y3 = values
+        np.multiply(y, math.pi, out=cos)
+        np.sin(cos, out=sin)
+        np.cos(cos, out=cos)
+        np.multiply(sin, -0.5 * math.pi ** 3, out=y3)
+        sin *= 0.5 * math.pi
+        np.subtract(1.0, cos, out=y)
+        y *= 0.5
+        cos *= 0.5 * math.pi ** 2
 
 
 @dataclass(frozen=True)
-class Cycloidal(MotionLaw):
+class Cycloidal(InPlaceLaw):
     """Cycloidal: y = u - sin(2 pi u) / (2 pi); y, y', y'' vanish at the ends, y''' does not."""
 
     name: ClassVar[str] = 'cycloidal'
 
-    def _derivatives(self, u: FloatArray) -> LawValues:
-        angle = TWO_PI * u
-        sin, cos = np.sin(angle), np.cos(angle)
-        return LawValues(u - sin / TWO_PI, 1.0 - cos, TWO_PI * sin, TWO_PI ** 2 * cos)
+    def _derivatives_into(self, values: LawValues) -> None:
+        # y' = 1 - cos(2 pi u), y'' = 2 pi sin(2 pi u), y''' = 4 pi^2 cos(2 pi u), in place.
+        u, cos, sin, y3 = values
+        np.multiply(u, TWO_PI, out=sin)
+        np.cos(sin, out=cos)
+        np.sin(sin, out=sin)
+        np.divide(sin, TWO_PI, out=y3)
+        u -= y3
+        np.multiply(cos, TWO_PI ** 2, out=y3)
+        np.subtract(1.0, cos, out=cos)
+        sin *= TWO_PI
 
 
 @dataclass(frozen=True)
@@ -128,7 +145,9 @@ class TableLaw(MotionLaw):
         object.__setattr__(self, 'y', tuple(y.tolist()))
 
     @cached_property
-    def _splines(self) -> tuple[PPoly, ...]:
+    def _splines(self) -> tuple['PPoly', ...]:
+        from scipy.interpolate import make_interp_spline, PPoly  # here: scipy costs start-up
+
         rest = [(1, 0.0), (2, 0.0)]
         spline = PPoly.from_spline(make_interp_spline(self.u, self.y, k=5, bc_type=(rest, rest)))
         return tuple(spline.derivative(order) if order else spline for order in range(4))

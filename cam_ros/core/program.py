@@ -20,7 +20,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ._law_base import checked_array, FloatArray
+from ._law_base import checked_array, float_array, FloatArray, LawValues, workspace
 from .errors import InvalidParameter
 from .laws import Dwell, LAWS, MotionLaw
 
@@ -60,12 +60,30 @@ class Segment:
         return self.s_end - self.s_start
 
 
-def _segment_values(segment: Segment, u: npt.ArrayLike) -> tuple[FloatArray, ...]:
-    """Return s, ds, d2s, d3s (per rad of cam) of a segment at normalised u in [0, 1]."""
-    y, y1, y2, y3 = segment.law.evaluate(u)
+def _segment_into(segment: Segment, values: LawValues) -> None:
+    """Overwrite values, normalised u in [0, 1] in values.y, by s, ds, d2s, d3s per rad."""
+    segment.law._derivatives_into(values)
+    y, y1, y2, y3 = values
     stroke, span = segment.stroke, segment.span
-    return (segment.s_start + stroke * y, (stroke / span) * y1, (stroke / span ** 2) * y2,
-            (stroke / span ** 3) * y3)
+    y *= stroke
+    y += segment.s_start
+    y1 *= stroke / span
+    y2 *= stroke / span ** 2
+    y3 *= stroke / span ** 3
+
+
+def _segment_values(segment: Segment, u: float) -> LawValues:
+    """Return s, ds, d2s, d3s (per rad of cam) of a segment at normalised u in [0, 1]."""
+    values = workspace(u)
+    _segment_into(segment, values)
+    return values
+
+
+def _ungrouped(grouped: FloatArray, order: npt.NDArray[np.intp]) -> FloatArray:
+    """Return the values grouped[i] of angle order[i] back in the order of the angles."""
+    values = np.empty_like(grouped)
+    values[order] = grouped
+    return values
 
 
 def _read_only(array: npt.ArrayLike) -> FloatArray:
@@ -148,6 +166,10 @@ class SegmentSummary:
     peak_d2s: float
     peak_d3s: float
 
+    def peaks_at_speed(self, omega: float) -> tuple[float, float, float]:
+        """Return peak |velocity|, |acceleration|, |jerk| at constant cam speed omega (rad/s)."""
+        return self.peak_ds * omega, self.peak_d2s * omega ** 2, self.peak_d3s * omega ** 3
+
 
 @dataclass(frozen=True)
 class MotionProgram:
@@ -181,38 +203,81 @@ class MotionProgram:
         return np.array([segment.start - self.start for segment in self.segments])
 
     @cached_property
+    def _boundaries(self) -> FloatArray:
+        # Where segments 1, 2, ... take over. Non-decreasing even where a segment shorter than an
+        # accepted overlap lets the next offset step back: the earlier segment keeps the overlap.
+        return np.maximum.accumulate(self._offsets)[1:]
+
+    @cached_property
     def _spans(self) -> FloatArray:
         return np.array([segment.span for segment in self.segments])
 
+    @cached_property
+    def _dwell_values(self) -> dict[int, LawValues]:
+        # s, ds, d2s, d3s of each dwell, the same at every angle: filled in, not evaluated.
+        return {number: _segment_values(segment, 0.0)
+                for number, segment in enumerate(self.segments) if isinstance(segment.law, Dwell)}
+
     def evaluate(self, theta: npt.ArrayLike) -> ProgramValues:
         """Return s and its derivatives per rad at cam angles theta (rad, any real, mod 2 pi)."""
-        angle = checked_array('theta', theta, np.isfinite, 'must be finite (rad)')
-        local = angle - self.start
-        if local.size and not (local.min() >= 0.0 and local.max() < TWO_PI):
-            local = np.mod(local, TWO_PI)
-        flat = local.ravel()
-        index = np.searchsorted(self._offsets[1:], flat, side='right')
-        values = [np.empty_like(flat) for _ in range(4)]
-        for number, inside in self._segment_parts(index):
-            u = np.clip((flat[inside] - self._offsets[number]) / self._spans[number], 0.0, 1.0)
-            for out, part in zip(values, _segment_values(self.segments[number], u)):
-                out[inside] = part
+        local = self._local_angles(theta)
+        flat = local.reshape(-1)
+        order, bounds = self._grouping(flat)
+        grouped = flat if order is None else flat[order]
+        values = LawValues(*(np.empty(flat.size) for _ in range(4)))
+        for number, (low, high) in enumerate(zip(bounds[:-1], bounds[1:])):
+            if high > low:
+                self._evaluate_segment(number, grouped[low:high],
+                                       LawValues(*(value[low:high] for value in values)))
+        if order is not None:
+            values = LawValues(*(_ungrouped(value, order) for value in values))
         return ProgramValues(*(value.reshape(local.shape) for value in values))
 
-    def _segment_parts(self, index: npt.NDArray[np.intp]) -> list[tuple[int, slice | FloatArray]]:
-        """Return (segment number, where) for each segment that has samples.
+    def segment_at(self, angle: float) -> int:
+        """Return the number of the segment that owns a cam angle (rad, any finite value)."""
+        return int(np.searchsorted(self._boundaries, (angle - self.start) % TWO_PI, side='right'))
 
-        Sorted angles (a profile, a sweep) give contiguous slices, which cost no gather or
-        scatter; any other order gives boolean masks. Segments without samples are skipped.
+    def _local_angles(self, theta: npt.ArrayLike) -> FloatArray:
+        """Return theta - start, wrapped into [0, 2 pi] if needed, or raise unless finite."""
+        rule = 'must be finite (rad)'
+        angle = float_array('theta', theta, rule)
+        local = angle - self.start if self.start else angle
+        if local.size:
+            low, high = local.min(), local.max()  # NaN or inf fails the range test too
+            if not (low >= 0.0 and high < TWO_PI):
+                if not (math.isfinite(low) and math.isfinite(high)):
+                    checked_array('theta', angle, np.isfinite, rule)  # raises, naming the angle
+                local = np.mod(local, TWO_PI)
+        return local
+
+    def _grouping(self, flat: FloatArray) -> tuple[npt.NDArray[np.intp] | None, list[int]]:
         """
+        Return (order, bounds): segment k owns grouped[bounds[k]:bounds[k + 1]].
+
+        grouped is flat[order], or flat itself when order is None: sorted angles (a profile, a
+        sweep) split into slices by one search of the boundaries, without a gather or scatter.
+        Other angles are grouped by a stable sort of their segment numbers.
+        """
+        if flat.size < 2 or bool((flat[1:] >= flat[:-1]).all()):
+            return None, [0, *np.searchsorted(flat, self._boundaries).tolist(), flat.size]
         count = len(self.segments)
-        if index.size < 2 or bool(np.all(index[1:] >= index[:-1])):
-            edges = np.searchsorted(index, np.arange(count + 1))
-            return [(number, slice(int(low), int(high)))
-                    for number, (low, high) in enumerate(zip(edges[:-1], edges[1:]))
-                    if high > low]
-        present = np.flatnonzero(np.bincount(index, minlength=count))
-        return [(int(number), index == number) for number in present]
+        index = np.searchsorted(self._boundaries, flat, side='right')
+        index = index.astype(np.min_scalar_type(count))  # 8 or 16 bits: a radix sort
+        bounds = np.cumsum(np.bincount(index, minlength=count)).tolist()
+        return np.argsort(index, kind='stable'), [0, *bounds]
+
+    def _evaluate_segment(self, number: int, angles: FloatArray, values: LawValues) -> None:
+        """Write s, ds, d2s, d3s of a segment at its angles (local, in order) into values."""
+        constants = self._dwell_values.get(number)
+        if constants is not None:
+            for value, constant in zip(values, constants):
+                value.fill(constant)
+            return
+        u = values.y
+        np.subtract(angles, self._offsets[number], out=u)
+        np.divide(u, self._spans[number], out=u)
+        np.minimum(u, 1.0, out=u)  # past 1 by round-off or a joint gap; >= 0 by the grouping
+        _segment_into(self.segments[number], values)
 
     def continuity_report(self) -> tuple[Discontinuity, ...]:
         """

@@ -1,13 +1,15 @@
 """Tests of the normalised motion laws: closed forms, finite differences, published values."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.laws import (
-    ConstantAcceleration, Cycloidal, LAWS, make_law, ModifiedSine, ModifiedTrapezoid,
+    ConstantAcceleration, Cycloidal, LAWS, LawValues, make_law, ModifiedSine, ModifiedTrapezoid,
     Polynomial345, Polynomial4567, PolynomialLaw, SccaLaw, SimpleHarmonic, TableLaw, ViaPointLaw)
 
 PI = math.pi
@@ -166,7 +168,10 @@ def test_characteristic_values_bound_the_sampled_derivatives(name):
     ((0.5, 0.0, 0.5), Cycloidal()),
     ((0.25, 0.5, 0.25), ModifiedTrapezoid()),
     ((0.25, 0.0, 0.75), ModifiedSine()),
-], ids=['parabolic', 'harmonic', 'cycloidal', 'modified_trapezoid', 'modified_sine'])
+    ((1e-310, 1.0, 1e-310), ConstantAcceleration()),  # pi / 1e-310 overflows: zones of 0
+    ((1e-300, 1e-13, 1.0), SimpleHarmonic()),
+], ids=['parabolic', 'harmonic', 'cycloidal', 'modified_trapezoid', 'modified_sine',
+        'tiny_b_and_d', 'tiny_b_and_c'])
 def test_scca_contains_the_classic_laws(fractions, explicit):
     u = np.linspace(0.0, 1.0, 801)
     scca, other = SccaLaw(*fractions).evaluate(u), explicit.evaluate(u)
@@ -469,3 +474,21 @@ def test_laws_are_immutable_values():
         law.u_via = 0.5  # type: ignore[misc]
     assert law == ViaPointLaw(*SEED_RISE_VIA)
     assert hash(SccaLaw(0.25, 0.5, 0.25)) == hash(SccaLaw(0.25, 0.5, 0.25))
+
+
+@pytest.mark.parametrize('name', LAW_PARAMS)
+def test_derivatives_into_the_callers_arrays_match_evaluate(name):
+    u = np.linspace(0.0, 1.0, 101)
+    values = LawValues(u.copy(), *(np.full(u.shape, math.nan) for _ in range(3)))
+    law_named(name)._derivatives_into(values)  # the motion program's path
+    for written, evaluated in zip(values, law_named(name).evaluate(u)):
+        np.testing.assert_array_equal(written, evaluated)
+
+
+def test_importing_the_core_and_evaluating_a_law_leave_scipy_unloaded():
+    probe = ('import sys; from cam_ros.core import make_law; make_law("cycloidal").evaluate(0.5); '
+             'print([name for name in sys.modules if name.split(".")[0] == "scipy"])')
+    result = subprocess.run([sys.executable, '-c', probe], capture_output=True, text=True,
+                            timeout=60)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == '[]'  # scipy costs the node 0.5 s of start-up

@@ -272,6 +272,15 @@ def test_program_may_start_at_any_angle():
     assert rotated.evaluate(deg(-90.0)).s == pytest.approx(0.0)
 
 
+@pytest.mark.parametrize(('angle_deg', 'number'), [
+    (-90.0, 0), (-45.0, 0), (0.0, 1), (179.9, 1), (180.0, 2), (269.9, 2), (270.0, 0),
+    (630.0, 0), (-181.0, 1), (-91.0, 2)])
+def test_segment_at_names_the_segment_owning_any_angle(angle_deg, number):
+    rotated = program((Cycloidal(), -90, 0, 0.0, H), (Dwell(), 0, 180, H, H),
+                      (SimpleHarmonic(), 180, 270, H, 0.0))
+    assert rotated.segment_at(deg(angle_deg)) == number
+
+
 def test_evaluate_keeps_the_shape_and_returns_read_only_arrays():
     values = _seed_002_program().evaluate(np.zeros((2, 3)))
     assert values.s.shape == (2, 3)
@@ -306,6 +315,49 @@ def test_a_million_angles_evaluate_quickly():
     values = cam.evaluate(theta)
     assert time.perf_counter() - began < MILLION_ANGLES_BUDGET_S
     assert values.s.shape == theta.shape
+
+
+@pytest.mark.parametrize('make', [_seed_002_program, lambda: _rise_return(Cycloidal()),
+                                  lambda: _seed_001_program('constant_acceleration')],
+                         ids=['via_point', 'cycloidal', 'constant_acceleration'])
+def test_an_angle_gets_the_same_values_in_any_order_or_batch(make):
+    cam = make()
+    joints = [segment.start for segment in cam.segments]
+    inside = np.random.default_rng(2).uniform(0.0, 2 * PI - 1e-6, 3000)
+    theta = np.sort(np.concatenate([joints, cam.start + inside]))  # sorted: split into slices
+    shuffle = np.random.default_rng(3).permutation(theta.size)  # any order: grouped by segment
+    ordered, shuffled = cam.evaluate(theta), cam.evaluate(theta[shuffle])
+    alone = [cam.evaluate(angle) for angle in theta[::37]]
+    for name in ('s', 'ds', 'd2s', 'd3s'):
+        expected = getattr(ordered, name)
+        np.testing.assert_array_equal(getattr(shuffled, name), expected[shuffle])
+        np.testing.assert_array_equal([getattr(values, name) for values in alone], expected[::37])
+
+
+def test_an_angle_in_a_joint_gap_takes_the_end_of_the_segment_before():
+    gap = 0.5e-9  # accepted: below ANGLE_TOLERANCE
+    cam = MotionProgram([Segment(ConstantVelocity(), 0.0, PI, 0.0, H),
+                         Segment(Cycloidal(), PI + gap, 2 * PI, H, 0.0)])
+    values = cam.evaluate([PI + gap / 2, PI])
+    assert values.s.tolist() == [H, H]  # u clipped to 1, not a hair past it
+    assert values.ds.tolist() == [H / PI, H / PI]
+
+
+def test_an_overlap_past_a_short_segment_stays_with_the_segment_before():
+    short, overlap = 0.1e-9, 0.6e-9  # accepted: the third segment starts before the second
+    cam = MotionProgram([Segment(Cycloidal(), 0.0, 1.0, 0.0, H),
+                         Segment(Dwell(), 1.0, 1.0 + short, H, H),
+                         Segment(SimpleHarmonic(), 1.0 + short - overlap, 2 * PI, H, 0.0)])
+    theta = np.sort(np.concatenate([np.linspace(0.0, 2 * PI, 1000, endpoint=False),
+                                    1.0 + np.array([-1.0, -0.5, 0.0, 0.05, 0.1, 0.5]) * 1e-9]))
+    ordered, backwards = cam.evaluate(theta), cam.evaluate(theta[::-1])
+    for name in ('s', 'ds', 'd2s', 'd3s'):
+        assert np.all(np.isfinite(getattr(ordered, name)))
+        np.testing.assert_array_equal(getattr(backwards, name)[::-1], getattr(ordered, name))
+    first = theta < 1.0  # the second segment's start: the first keeps the overlap
+    law = cam.segments[0].law.evaluate(theta[first])
+    assert ordered.s[first] == approx(H * law.y)
+    assert ordered.d2s[first] == approx(H * law.y2)
 
 
 # Segment summary -----------------------------------------------------------------------------
