@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -39,6 +40,11 @@ ROTATIONS = ('clockwise', 'counterclockwise')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
 NODE_NAMES = ('cam', '/cam', '/**')
 REQUIRED = object()  # default of a parameter the file must give
+#: Largest length (m) a config may give: far beyond any cam, and small enough that products of
+#: lengths stay finite in double precision.
+MAX_LENGTH_M = 1e3
+#: Largest arm angle (deg) of an oscillating follower's motion.
+MAX_ARM_ANGLE_DEG = 180.0
 
 
 @dataclass(frozen=True)
@@ -191,6 +197,16 @@ def flatten(tree: Mapping[str, Any], prefix: str = '') -> dict[str, Any]:
     return flat
 
 
+class _RosYamlLoader(yaml.SafeLoader):
+    """YAML 1.1 SafeLoader that also reads 1e3 and 6.0e0 as floats, as ROS's parser does."""
+
+
+_RosYamlLoader.add_implicit_resolver(
+    'tag:yaml.org,2002:float',
+    re.compile(r'^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$'),
+    list('-+0123456789.'))
+
+
 def read_parameters_file(path: str | Path) -> dict[str, Any]:
     """Read a ROS 2 parameters file and return its cam node's flat parameters."""
     try:
@@ -198,7 +214,7 @@ def read_parameters_file(path: str | Path) -> dict[str, Any]:
     except OSError as err:
         raise InvalidParameter('config', str(path), f'cannot be read ({err.strerror})') from err
     try:
-        document = yaml.safe_load(text)
+        document = yaml.load(text, Loader=_RosYamlLoader)
     except yaml.YAMLError as err:
         mark = getattr(err, 'problem_mark', None)
         where = f' at line {mark.line + 1}, column {mark.column + 1}' if mark else ''
@@ -274,6 +290,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
             values[spec.name] = check_parameter(spec.name, spec.default)
     metre = LENGTH_UNITS[values['length_unit']]
     oscillating = values['follower.type'].startswith('oscillating')
+    _check_magnitudes(values, metre, oscillating)
     position_scale = math.radians(1.0) if oscillating else metre
 
     def scaled(name: str, scale: float) -> tuple[float, ...]:
@@ -322,6 +339,20 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         recording_compression=values['recording.compression'],
         parameters=dict(values),
     )
+
+
+def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:
+    """Bound every length and follower position (the specs cannot: their unit varies)."""
+    length_bound = (MAX_LENGTH_M / metre, f'{MAX_LENGTH_M / metre:g} {values["length_unit"]}')
+    bounds = {'length_unit': length_bound,
+              'length_unit|deg': ((MAX_ARM_ANGLE_DEG, f'{MAX_ARM_ANGLE_DEG:g} deg') if oscillating
+                                  else length_bound)}
+    for spec in PARAMETERS:
+        if spec.unit in bounds:
+            value, (limit, text) = values[spec.name], bounds[spec.unit]
+            items = value if isinstance(value, tuple) else (value,)
+            if any(abs(item) > limit for item in items):
+                raise InvalidParameter(spec.name, value, f'must not exceed {text} in magnitude')
 
 
 def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:

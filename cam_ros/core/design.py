@@ -17,7 +17,8 @@ import numpy.typing as npt
 from .config import CamConfig, MotionConfig
 from .errors import InvalidParameter
 from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
-                       TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry)
+                       TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry,
+                       contact_measures)
 from .laws import MotionLaw, make_law
 from .program import MotionProgram, Segment
 
@@ -67,11 +68,10 @@ class CamDesign:
         theta = np.mod(np.asarray(angles, dtype=float), TWO_PI)
         motion = self.program.evaluate(theta)
         timed = motion.at_speed(self.config.cam_speed)
-        shape = cam_geometry(self.follower, theta, motion.s, motion.ds, motion.d2s,
-                             clockwise=self.clockwise)
+        pressure_angle, radius = contact_measures(self.follower, theta, motion.s, motion.ds,
+                                                  motion.d2s, clockwise=self.clockwise)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
-                        motion.ds, motion.d2s, motion.d3s, shape.pressure_angle,
-                        shape.surface_radius)
+                        motion.ds, motion.d2s, motion.d3s, pressure_angle, radius)
 
     def profile(self, count: int) -> CamState:
         """Evaluate the cam at count equally spaced angles over one revolution from 0."""
@@ -135,7 +135,7 @@ def check_angles(angles: np.ndarray, max_batch: int) -> str | None:
     finite = np.isfinite(angles)
     if not finite.all():
         index = int(np.argmin(finite))
-        return f'angles[{index}] = {angles[index]!r}: must be a finite angle (rad)'
+        return f'angles[{index}] = {float(angles[index])!r}: must be a finite angle (rad)'
     return None
 
 
@@ -191,6 +191,10 @@ def build_law(motion: MotionConfig, index: int) -> MotionLaw:
 
 def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionProgram:
     """Build the motion program; errors name the motion.* parameter (as written) and index."""
+    for index, segment in enumerate(motion.via_segment):
+        if not 0 <= segment < len(motion.laws):
+            raise InvalidParameter(f'motion.via_segment[{index}]', segment,
+                                   f'must be a segment index in [0, {len(motion.laws) - 1}]')
     segments = []
     for index in range(len(motion.laws)):
         try:
@@ -230,5 +234,20 @@ def build_design(config: CamConfig) -> CamDesign:
     program = build_program(config.motion, config.parameters)
     follower = build_follower(config)
     design = CamDesign(config, program, follower)
-    design.geometry()  # the follower must be able to follow the motion everywhere
+    try:
+        design.geometry()  # the follower must be able to follow the motion everywhere
+    except InvalidParameter as err:
+        raise _at_cam_angle(err, program) from err
     return design
+
+
+def _at_cam_angle(err: InvalidParameter, program: MotionProgram) -> InvalidParameter:
+    """Restate a geometry error at a check sample ('s[2812]') as the segment and cam angle."""
+    match = re.fullmatch(r'(\w+)\[(\d+)\]', err.parameter)
+    if not match:
+        return err
+    angle = int(match.group(2)) * TWO_PI / CHECK_SAMPLES
+    index = program.segment_at(angle)
+    return InvalidParameter(f'motion.laws[{index}] ({program.segments[index].law.name}): '
+                            f'{match.group(1)} at {math.degrees(angle):.2f} deg', err.value,
+                            err.rule)

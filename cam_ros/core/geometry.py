@@ -120,7 +120,7 @@ class TranslatingRoller:
     @property
     def prime_height(self) -> float:
         """Return d = sqrt(Rp^2 - e^2) (m), the roller centre's height on the prime circle."""
-        return math.sqrt(self.prime_radius ** 2 - self.offset ** 2)
+        return math.sqrt((self.prime_radius - self.offset) * (self.prime_radius + self.offset))
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
         return _first_bad('s', s, self.prime_height + s <= 0.0, 'roller centre must stay above '
@@ -129,9 +129,9 @@ class TranslatingRoller:
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> _Profile:
         zero, one = np.zeros_like(s), np.ones_like(s)
-        centre = np.stack((self.offset + zero, self.prime_height + s))
-        return _roller_profile(theta, sigma, centre, np.stack((zero, ds)),
-                               np.stack((zero, d2s)), np.stack((zero, one)), self.roller_radius)
+        centre = np.array((self.offset + zero, self.prime_height + s))
+        return _roller_profile(theta, sigma, centre, np.array((zero, ds)),
+                               np.array((zero, d2s)), np.array((zero, one)), self.roller_radius)
 
 
 @dataclass(frozen=True)
@@ -155,19 +155,19 @@ class TranslatingFlat:
                   d2s: Array) -> _Profile:
         zero, one = np.zeros_like(s), np.ones_like(s)
         distance = self.base_radius + s
-        contact, radius = _flat_envelope(distance, ds, d2s, np.stack((zero, one)),
+        contact, radius = _flat_envelope(distance, ds, d2s, np.array((zero, one)),
                                          -sigma + zero, zero)
-        trace = np.stack((zero, distance))
-        _, trace_curvature = _relative_motion(sigma, trace, np.stack((zero, ds)),
-                                              np.stack((zero, d2s)))
+        trace = np.array((zero, distance))
+        _, trace_curvature = _relative_motion(sigma, trace, np.array((zero, ds)),
+                                              np.array((zero, d2s)))
         return _Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds)
 
 
 def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:
     """Return lambda, the arm unit vector u and w = du/dpsi (fixed frame) of an oscillating arm."""
     lam = sigma if with_cam else -sigma
-    u = np.stack((lam * np.sin(psi), -np.cos(psi)))
-    w = np.stack((lam * np.cos(psi), np.sin(psi)))
+    u = np.array((lam * np.sin(psi), -np.cos(psi)))
+    w = np.array((lam * np.cos(psi), np.sin(psi)))
     return lam, u, w
 
 
@@ -223,7 +223,7 @@ class OscillatingRoller:
                   d2s: Array) -> _Profile:
         _, u, w = _arm_vectors(sigma, self.arm_turns_with_cam, self.initial_arm_angle + s)
         arm = self.arm_length
-        centre = np.stack((arm * u[0], self.pivot_distance + arm * u[1]))
+        centre = np.array((arm * u[0], self.pivot_distance + arm * u[1]))
         return _roller_profile(theta, sigma, centre, arm * ds * w, arm * (d2s * w - ds ** 2 * u),
                                w, self.roller_radius)
 
@@ -280,7 +280,7 @@ class OscillatingFlat:
         d2_distance = c * (np.cos(psi) * d2s - np.sin(psi) * ds ** 2)
         contact, radius = _flat_envelope(distance, d_distance, d2_distance, w,
                                          lam * ds - sigma, lam * d2s)
-        foot = np.stack((-f * w[0], c - f * w[1]))
+        foot = np.array((-f * w[0], c - f * w[1]))
         along = _dot(contact - foot, u)
         angle = _pressure_angle(sigma, along * w + f * u, w)
         _, foot_curvature = _relative_motion(sigma, foot, f * ds * u, f * (d2s * u + ds ** 2 * w))
@@ -297,7 +297,7 @@ ROLLERS = (TranslatingRoller, OscillatingRoller)
 
 def _perp(v: Array) -> Array:
     """Return J v, v turned by +90 degrees."""
-    return np.stack((-v[1], v[0]))
+    return np.array((-v[1], v[0]))
 
 
 def _dot(a: Array, b: Array) -> Array:
@@ -311,7 +311,7 @@ def _cross(a: Array, b: Array) -> Array:
 def _to_cam_frame(theta: Array, sigma: int, v: Array) -> Array:
     """Return fixed-frame points v at cam angles theta in the cam frame: Rot(-sigma*theta) v."""
     c, s = np.cos(theta), np.sin(sigma * theta)
-    return np.stack((c * v[0] + s * v[1], -s * v[0] + c * v[1]))
+    return np.array((c * v[0] + s * v[1], -s * v[0] + c * v[1]))
 
 
 def _relative_motion(sigma: int, point: Array, d_point: Array,
@@ -361,12 +361,22 @@ class _Profile:
 
     def __init__(self, theta: Array, sigma: int, pitch: Array, contact: Array, angle: Array,
                  pitch_curvature: Array, surface_radius: Array, offset: Optional[Array]):
-        self.pitch = _to_cam_frame(theta, sigma, pitch)
-        self.surface = _to_cam_frame(theta, sigma, contact)
+        self._theta, self._sigma = theta, sigma
+        self._pitch, self._contact = pitch, contact
         self.pressure_angle = angle
         self.pitch_curvature = pitch_curvature
         self.surface_radius = surface_radius
         self.contact_offset = offset
+
+    @property
+    def pitch(self) -> Array:
+        """Return the pitch curve in the cam frame."""
+        return _to_cam_frame(self._theta, self._sigma, self._pitch)
+
+    @property
+    def surface(self) -> Array:
+        """Return the cam surface (contact points) in the cam frame."""
+        return _to_cam_frame(self._theta, self._sigma, self._contact)
 
 
 # ---------------------------------------------------------------- public geometry
@@ -452,6 +462,17 @@ def cam_geometry(follower: Follower, theta: object, s: object, ds: object, d2s: 
     if problem:
         raise problem
     return _geometry(follower, theta_a, s_a, ds_a, d2s_a, bool(clockwise))
+
+
+def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s: Array, *,
+                     clockwise: bool = False) -> tuple[Array, Array]:
+    """Return (pressure angle, surface radius of curvature) only, without input checks.
+
+    The per-request path of a validated design: same formulas as cam_geometry, none of its
+    checks or cam-frame coordinates. Inputs must be equal-length 1-D float arrays.
+    """
+    raw = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
+    return raw.pressure_angle, raw.surface_radius
 
 
 # ---------------------------------------------------------------- checks

@@ -14,26 +14,8 @@ import numpy as np
 
 from .design import CHECK_SAMPLES, CamDesign
 from .geometry import TranslatingRoller
-from .program import Discontinuity
+from .program import Discontinuity, SegmentSummary
 from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
-
-
-@dataclass(frozen=True)
-class SegmentReport:
-    """One segment: law, angles (rad), positions, Cv/Ca/Cj and peak |v|, |a|, |j| at speed (SI)."""
-
-    index: int
-    law: str
-    start: float
-    end: float
-    s_start: float
-    s_end: float
-    cv: float
-    ca: float
-    cj: float
-    peak_velocity: float
-    peak_acceleration: float
-    peak_jerk: float
 
 
 @dataclass(frozen=True)
@@ -71,7 +53,7 @@ class DesignReport:
     min_base_radius: Optional[float]
     min_base_radius_governing: str
     face_range: Optional[tuple[float, float]]
-    segments: tuple[SegmentReport, ...]
+    segments: tuple[SegmentSummary, ...]
     continuity: tuple[Discontinuity, ...]
     quick_estimate: Optional[QuickEstimate]
     warnings: tuple[str, ...]
@@ -85,15 +67,6 @@ class DesignReport:
 def position_unit(design: CamDesign) -> str:
     """Return the unit of the follower position: 'm', or 'rad' for oscillating followers."""
     return 'rad' if design.config.follower.type.startswith('oscillating') else 'm'
-
-
-def segment_reports(design: CamDesign) -> tuple[SegmentReport, ...]:
-    """Return each segment's characteristic values and peaks at the configured cam speed."""
-    omega = design.config.cam_speed
-    return tuple(
-        SegmentReport(s.index, s.law, s.start, s.end, s.s_start, s.s_end, s.cv, s.ca, s.cj,
-                      s.peak_ds * omega, s.peak_d2s * omega ** 2, s.peak_d3s * omega ** 3)
-        for s in design.program.segment_summary())
 
 
 def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
@@ -137,7 +110,7 @@ def design_report(design: CamDesign) -> DesignReport:
         min_base_radius=sizing.base_radius,
         min_base_radius_governing=sizing.governing,
         face_range=face,
-        segments=segment_reports(design),
+        segments=design.program.segment_summary(),
         continuity=design.program.continuity_report(),
         quick_estimate=quick_estimate(design),
         warnings=tuple(design.warnings()),

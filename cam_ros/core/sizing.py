@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .errors import InvalidParameter
 from .geometry import (
@@ -111,6 +110,8 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
         found = float(candidates[0])
         return BaseRadiusSizing(dataclasses.replace(follower, base_radius=found), found,
                                 'search_bound', tol)
+    from scipy.optimize import brentq  # here: scipy costs the node 0.5 s start-up
+
     low, high = float(candidates[index - 1]), float(candidates[index])
     root = float(brentq(worst, low, high, xtol=tol, rtol=_RTOL))
     found = root if worst(root) >= 0.0 else min(high, root + tol + _RTOL * root)

@@ -50,6 +50,15 @@ def test_lengths_convert_from_the_declared_unit_and_angles_from_degrees():
     assert millimetres.motion.via_position == pytest.approx((0.16, 0.16))
 
 
+def test_exponent_floats_read_as_numbers_as_ros_reads_them(tmp_path):
+    # PyYAML's YAML 1.1 reads 6.0e0 and 1e3 as strings; ROS's parameter parser as doubles.
+    text = edited('cam_speed: 6.283185307179586', 'cam_speed: 6.0e0')
+    text = text.replace('sample_count: 360', 'sample_count: 360\n      state_rate_hz: 1e2')
+    text = text.replace('      state_rate_hz: 50.0\n', '')
+    config = load_config(write(tmp_path, text))
+    assert (config.cam_speed, config.state_rate_hz) == (6.0, 100.0)
+
+
 def test_the_same_cam_in_two_units_is_the_same_design():
     metres = edited('length_unit: cm', 'length_unit: m')
     for name in ('base_radius: 4.0', 'roller_radius: 1.0', 'offset: 0.5'):
