@@ -20,6 +20,7 @@ from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Point, Vector3Stamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 ParameterType, SetParametersResult)
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -66,6 +67,17 @@ def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     return result
 
 
+def declared_value(spec: ParameterSpec) -> Any:
+    """Return a spec's default, or just its ROS type where it has none or an empty list.
+
+    rclpy takes an empty list for a byte array; declared by type, the parameter stays unset
+    (the core's default) until a file or an update gives it a value.
+    """
+    if spec.default is REQUIRED or spec.default == []:
+        return Parameter.Type(ROS_TYPES[spec.type])
+    return spec.default
+
+
 def as_float64(values: np.ndarray) -> array.array:
     """Convert a float64 array to the message field type without a per-element loop."""
     return array.array('d', np.ascontiguousarray(values, dtype=np.float64).tobytes())
@@ -84,11 +96,7 @@ class CamNode(Node):
         super().__init__('cam', **kwargs)
         self._params_file = params_file
         for spec in PARAMETERS:
-            if spec.default is REQUIRED:
-                self.declare_parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]),
-                                       descriptor(spec))
-            else:
-                self.declare_parameter(spec.name, spec.default, descriptor(spec))
+            self.declare_parameter(spec.name, declared_value(spec), descriptor(spec))
         self.design: CamDesign = build_design(parse_parameters(self._current_values()))
         self._pending: CamDesign | None = None
         self.add_on_set_parameters_callback(self._validate_update)
@@ -119,7 +127,7 @@ class CamNode(Node):
     # Parameters ---------------------------------------------------------------------------
     def _current_values(self, updates: Sequence[Parameter] = ()) -> dict[str, Any]:
         """Return the flat cam parameter values, with the updates applied, for the core."""
-        values = {spec.name: self.get_parameter(spec.name).value for spec in PARAMETERS}
+        values = {spec.name: self.get_parameter_or(spec.name).value for spec in PARAMETERS}
         values.update((param.name, param.value) for param in updates if param.name in SPECS)
         return {name: list(value) if isinstance(value, (array.array, tuple)) else value
                 for name, value in values.items() if value is not None}
@@ -130,6 +138,10 @@ class CamNode(Node):
         except CamError as err:
             self._pending = None
             return SetParametersResult(successful=False, reason=str(err))
+        except Exception as err:  # a core bug must reject the update, not stop the node
+            self._pending = None
+            self.get_logger().error(f'update rejected by an internal error: {err!r}')
+            return SetParametersResult(successful=False, reason=f'internal error: {err!r}')
         return SetParametersResult(successful=True)
 
     def _apply_update(self, updates: list[Parameter]) -> None:
@@ -174,8 +186,11 @@ class CamNode(Node):
         except CamError as err:
             response.success, response.message = False, str(err)
             return response
-        result = self.set_parameters_atomically(
-            [Parameter(name, value=value) for name, value in values.items()])
+        defaults = [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]), spec.default)
+                    for spec in PARAMETERS
+                    if spec.name not in values and spec.default is not REQUIRED]
+        result = self.set_parameters_atomically(  # the file's values, defaults for the rest
+            [Parameter(name, value=value) for name, value in values.items()] + defaults)
         response.success = result.successful
         response.message = f'reloaded {path}' if result.successful else result.reason
         return response
@@ -317,6 +332,9 @@ def main(args: Sequence[str] | None = None) -> int:
         code = 2
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except RCLError:
+        if rclpy.ok():
+            raise  # a real failure; otherwise SIGTERM's shutdown raced the executor's wait
     finally:
         executor.shutdown()
         if node is not None:

@@ -22,6 +22,13 @@ REPO = Path(__file__).resolve().parents[1]
 CONFIG_DIR = REPO / 'config'
 SERVICE_TIMEOUT_S = 20.0
 STOP_TIMEOUT_S = 10.0
+FIRST_ANSWER_TIMEOUT_S = 2.0
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """Add --heavy: longer loads, more fault repetitions, every bad config through a subprocess."""
+    parser.addoption('--heavy', action='store_true', default=False,
+                     help='reliability tests: run the full (minutes) instead of the short version')
 
 
 @pytest.fixture(scope='session')
@@ -130,6 +137,25 @@ def wait_for_service(client: object, process: NodeProcess, timeout: float) -> No
                                  f'{process.log()}')
 
 
+def wait_for_answer(client: object, request: object, process: NodeProcess) -> None:
+    """Call until an answer arrives: a service just discovered may not have matched us yet.
+
+    DDS can show the server's request reader before the server sees our response reader; a
+    request sent in that window is answered into the void, so a first answer proves the match.
+    """
+    deadline = time.monotonic() + SERVICE_TIMEOUT_S
+    while True:
+        future = client.call_async(request)
+        settle = time.monotonic() + FIRST_ANSWER_TIMEOUT_S
+        while not future.done() and time.monotonic() < settle:
+            time.sleep(0.01)
+        if future.done():
+            return
+        client.remove_pending_request(future)
+        if process.process.poll() is not None or time.monotonic() > deadline:
+            raise AssertionError(f'no answer from {client.srv_name}:\n{process.log()}')
+
+
 @pytest.fixture
 def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor):
     """Start `cam_node` as a subprocess on a params file and wait for its evaluate service.
@@ -154,6 +180,7 @@ def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor
             stack.callback(_reap, process)
             client = client_node.create_client(EvaluateCam, f'/{name}/evaluate')
             wait_for_service(client, process, SERVICE_TIMEOUT_S)
+            wait_for_answer(client, EvaluateCam.Request(angles=[0.0]), process)
             return process, client
 
         yield start

@@ -175,6 +175,25 @@ def test_accepted_update_rebuilds_and_republishes_rejected_update_keeps_design(
     assert process.stop(signal.SIGINT) == 0
 
 
+def test_via_point_added_live_then_reload_restores_the_file(start_cam_node, executor):
+    process, client = start_cam_node(DEFAULT)
+    # The via arrays are empty by default; a polynomial rise through (135 deg, 1.5 cm).
+    via = {'motion.laws': ['dwell', 'polynomial', 'dwell', 'simple_harmonic'],
+           'motion.via_segment': [1], 'motion.via_deg': [135.0], 'motion.via_position': [1.5]}
+    result = set_parameters(executor, [Parameter(name, value=value)
+                                       for name, value in via.items()])
+    assert result.successful, result.reason
+    response = evaluate(client, [math.radians(135.0)])
+    assert response.position[0] == pytest.approx(0.015, abs=1e-12)
+    assert_serves(evaluate(client, SAMPLE_ANGLES), design_with(**via))
+
+    reload = executor.node('reloader').create_client(Trigger, '/cam/reload')
+    answer = reload.call(Trigger.Request(), timeout_sec=CALL_TIMEOUT_S)
+    assert answer.success, answer.message
+    assert_serves(evaluate(client, SAMPLE_ANGLES), design_with())
+    assert process.stop(signal.SIGINT) == 0
+
+
 def test_live_state_rate_and_values(start_cam_node, executor):
     start_cam_node(DEFAULT, '-p', 'output.state_rate_hz:=20.0')
     listener = executor.node('state_listener')
@@ -213,3 +232,25 @@ def test_invalid_params_file_exits_2_naming_the_parameter(ros_domain, tmp_path):
                             timeout=60)
     assert result.returncode == 2, result.stderr
     assert 'follower.roller_radius' in result.stderr and '-1.0' in result.stderr
+
+
+def test_an_internal_error_rejects_the_update_and_keeps_the_design(ros_context, monkeypatch):
+    import cam_ros.node as node_module
+
+    overrides = [Parameter(name, value=value)
+                 for name, value in read_parameters_file(DEFAULT).items()]
+    node = node_module.CamNode(DEFAULT, context=ros_context, parameter_overrides=overrides)
+    try:
+        served = node.design
+
+        def broken(config):
+            raise ZeroDivisionError('a bug in the core')
+
+        monkeypatch.setattr(node_module, 'build_design', broken)
+        result = node.set_parameters([Parameter('follower.base_radius', value=5.0)])[0]
+        assert not result.successful
+        assert result.reason == "internal error: ZeroDivisionError('a bug in the core')"
+        assert node.design is served
+        assert node.get_parameter('follower.base_radius').value == 4.0
+    finally:
+        node.destroy_node()
