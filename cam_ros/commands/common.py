@@ -4,8 +4,9 @@ from __future__ import annotations
 import json
 import math
 import sys
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 import numpy as np
 
@@ -110,6 +111,14 @@ def output_path(option: str, path: str | Path, suffixes: Sequence[str]) -> Path:
     return result
 
 
-def write_error(option: str, path: Path, err: OSError) -> InvalidParameter:
-    """Return the InvalidParameter for an output file that cannot be written."""
-    return InvalidParameter(option, str(path), f'cannot be written ({err.strerror or err})')
+@contextmanager
+def writing(command: str, message: str, target: Path) -> Iterator[None]:
+    """Show progress while the -o target is written; an OSError names -o and the file."""
+    progress(command, message)
+    try:
+        yield
+    except OSError as err:
+        raise InvalidParameter('-o', str(target),
+                               f'cannot be written ({err.strerror or err})') from err
+    finally:
+        end_progress()

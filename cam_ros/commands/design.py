@@ -11,10 +11,11 @@ import numpy as np
 
 from cam_ros.commands.common import (degrees, dump_json, end_progress, EXIT_FAILED, EXIT_OK,
                                      format_table, load_design, number, output_path, progress,
-                                     verdict, write_error)
+                                     verdict, writing)
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
+PEAK_KEYS = ('peak_velocity', 'peak_acceleration', 'peak_jerk')
 ORDER_NAMES = ('s', 'ds/dtheta', 'd2s/dtheta2', 'd3s/dtheta3')  # derivatives per rad of cam
 #: The arrays of `cam_ros sample`, in output order: (name, CamState field, unit; {p} = m or rad).
 SAMPLE_FIELDS = (
@@ -39,6 +40,7 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
     cfg = design.config
     unit = position_unit(design)
     estimate = report.quick_estimate
+    omega = cfg.cam_speed
     return {
         'config': str(config),
         'ok': report.ok,
@@ -66,8 +68,7 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
             'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
             'end_deg': degrees(s.end), 'start_position': s.s_start,
             'end_position': s.s_end, 'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
-            'peak_velocity': s.peak_velocity, 'peak_acceleration': s.peak_acceleration,
-            'peak_jerk': s.peak_jerk} for s in report.segments],
+            **dict(zip(PEAK_KEYS, s.peaks_at_speed(omega)))} for s in report.segments],
         'continuity': [{
             'angle_deg': degrees(jump.angle), 'order': jump.order,
             'derivative': ORDER_NAMES[jump.order], 'jump': jump.jump, 'left': jump.left,
@@ -93,13 +94,13 @@ def _follower_line(design: CamDesign) -> str:
 
 
 def _segment_table(report: DesignReport) -> str:
-    unit = position_unit(report.design)
+    unit, omega = position_unit(report.design), report.design.config.cam_speed
     headers = ('#', 'law', 'start deg', 'end deg', f'from {unit}', f'to {unit}', 'Cv', 'Ca',
                'Cj', f'peak v {unit}/s', f'peak a {unit}/s^2', f'peak j {unit}/s^3')
     rows = [(str(s.index), s.law, f'{math.degrees(s.start):.2f}', f'{math.degrees(s.end):.2f}',
              number(s.s_start), number(s.s_end), number(s.cv, 5), number(s.ca, 5),
-             number(s.cj, 5), number(s.peak_velocity, 5), number(s.peak_acceleration, 5),
-             number(s.peak_jerk, 5)) for s in report.segments]
+             number(s.cj, 5), *(number(peak, 5) for peak in s.peaks_at_speed(omega)))
+            for s in report.segments]
     return format_table(headers, rows)
 
 
@@ -223,13 +224,8 @@ def plot(config: str, output: str, angle_deg: float = 0.0) -> int:
     if not math.isfinite(angle_deg):
         raise InvalidParameter('--angle-deg', angle_deg, 'must be a finite angle (deg)')
     design = load_design(config)
-    progress('plot', f'drawing {target}')
-    try:
+    with writing('plot', f'drawing {target}', target):
         plot_design(design, target, math.radians(angle_deg), title=Path(config).name)
-    except OSError as err:
-        raise write_error('-o', target, err) from err
-    finally:
-        end_progress()
     print(f'wrote {target}')
     return verdict('plot', design)
 
@@ -240,12 +236,7 @@ def export(config: str, output: str, samples: int | None = None) -> int:
 
     target = output_path('-o', output, tuple(WRITERS))
     design = load_design(config)
-    progress('export', f'writing {target}')
-    try:
+    with writing('export', f'writing {target}', target):
         count = export_surface(design, target, EXPORT_SAMPLES if samples is None else samples)
-    except OSError as err:
-        raise write_error('-o', target, err) from err
-    finally:
-        end_progress()
     print(f'wrote {target}: closed cam surface of {count} points (mm)')
     return verdict('export', design)

@@ -1,6 +1,8 @@
 """Recording commands: summarise an MCAP recording, replay it onto the ROS graph."""
 from __future__ import annotations
 
+import signal
+import threading
 from typing import Sequence
 
 from cam_ros.commands.common import dump_json, end_progress, EXIT_OK, progress
@@ -31,13 +33,15 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
         published += 1
         progress('replay', f'{published} of {total} messages' + (' (looping)' if loop else ''))
 
+    stop = threading.Event()
     with ros_node('replay') as (node, _):
+        # Ctrl-C sets stop: a KeyboardInterrupt inside publish() could leave its handle held.
+        previous = signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
         try:
             count = replay_recording(recording, node, rate=rate, topics=topics, loop=loop,
-                                     on_message=show, wait_for_subscribers=wait)
-        except KeyboardInterrupt:
-            count = published
+                                     on_message=show, wait_for_subscribers=wait, stop=stop)
         finally:
+            signal.signal(signal.SIGINT, previous)
             end_progress()
     print(f'published {count} messages from {path}')
     return EXIT_OK
