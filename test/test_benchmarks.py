@@ -13,9 +13,10 @@ TINY = Sizes(
     core_counts=(1000,), core_repeats=3, loop_count=1000, loop_repeats=3, geometry_count=360,
     geometry_repeats=3,
     service=ServiceSizes(calls=20, warmup_calls=5, block=10, batch=100, batch_repeats=3,
-                         big_batch=1000, big_batch_repeats=1, startup_trials=1),
-    recording=RecordingSizes(rates_hz=(500.0,), rate_seconds=0.3, loop_rate_hz=500.0,
-                             loop_seconds=0.1, loop_rounds=1))
+                         big_batch=1000, big_batch_repeats=1, startup_trials=1,
+                         startup_warmup=False),
+    recording=RecordingSizes(rates_hz=(500.0,), rate_seconds=0.3, sweep_rounds=1,
+                             loop_rate_hz=500.0, loop_seconds=0.1, loop_rounds=1))
 FIGURES = {
     'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
     'design_geometry_ms', 'service_p50_ms', 'service_p99_ms', 'batch_100_ms', 'batch_1000_ms',

@@ -1,16 +1,10 @@
-"""The --heavy switch: each reliability test runs a short bounded version, the full one with it."""
+"""Reliability effort: short bounded tests, the full ones with --heavy (see test/conftest.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any, Callable
 
 import pytest
-
-
-def pytest_addoption(parser: pytest.Parser) -> None:
-    """Add --heavy: longer loads, more fault repetitions, every bad config through a subprocess."""
-    parser.addoption('--heavy', action='store_true', default=False,
-                     help='reliability tests: run the full (minutes) instead of the short version')
 
 
 @dataclass(frozen=True)

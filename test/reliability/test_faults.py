@@ -109,7 +109,7 @@ def test_sigkill_loses_at_most_the_open_chunk(start_cam_node, executor, tmp_path
            ', '.join(f'{m} ({b} B)' for m, b in losses))
 
 
-def test_clean_stops_write_the_summary(start_cam_node, executor, tmp_path, report):
+def test_sigint_and_sigterm_write_the_summary(start_cam_node, executor, tmp_path, report):
     listener = executor.node('stop_witness')
     witness = Witness(listener, JointState, '/cam/joint_states')
     for sig in (signal.SIGINT, signal.SIGTERM):
@@ -121,7 +121,7 @@ def test_clean_stops_write_the_summary(start_cam_node, executor, tmp_path, repor
         wait_until(lambda: witness.count() > seen, CALL_TIMEOUT_S, 'state messages')
         time.sleep(CLEAN_RUN_S)
         assert process.stop(sig) == 0, process.log()
-        assert 'Traceback' not in process.log()
+        assert 'Traceback' not in process.log(), process.log()
         time.sleep(SETTLE_S)
         path = only_file(folder)
         recording = open_recording(path)
@@ -149,6 +149,17 @@ def set_recording(client, on: bool) -> SetBool.Response:
     response = client.call(SetBool.Request(data=on), timeout_sec=CALL_TIMEOUT_S)
     assert response is not None, 'no answer from /cam/record'
     return response
+
+
+def test_sigterm_at_any_moment_exits_0(start_cam_node, effort, report):
+    # The node's executor wakes at 1000 Hz, so the signal's shutdown often lands in its wait.
+    delays = [0.0, 0.01, 0.05, 0.2] * effort.scaled(1, 4)
+    for delay in delays:
+        process, _ = start_cam_node(DEFAULT, '-p', 'output.state_rate_hz:=1000.0')
+        time.sleep(delay)
+        assert process.stop(signal.SIGTERM) == 0, process.log()
+        assert 'Traceback' not in process.log(), process.log()
+    report('SIGTERMs 0-0.2 s after start-up, each exit 0', len(delays))
 
 
 def test_unwritable_directory_refuses_recording_and_the_node_serves_on(start_cam_node, executor,

@@ -162,25 +162,57 @@ def followers(draw, kind: str) -> dict[str, Any]:
 #: Stroke unit per follower kind: m for translating, arm deg for oscillating followers.
 UNITS = {'translating_roller': (0.002, 0.01), 'translating_flat': (0.002, 0.01),
          'oscillating_roller': (1.0, 4.0), 'oscillating_flat': (0.5, 2.0)}
-#: A translating follower's largest stroke (4 units) is at most this fraction of its distance
-#: from the cam centre at rest, so that laws overshooting their stroke (polynomial through a via
-#: point) keep it on its side of the cam.
-TRANSLATING_REACH = 0.25
+#: Share of the follower's free travel (to its nearest geometric limit) a drawn motion may use,
+#: overshoot included: a polynomial through a via point can overshoot its stroke several times.
+ROOM_SHARE = 0.5
 #: Largest arm speed |ds/dtheta| drawn for the oscillating flat face (its arm must turn slower
-#: than the cam); strokes are scaled down to it.
+#: than the cam).
 FLAT_ARM_SPEED = 0.5
+#: Normalised rise samples used to find a program's extreme positions.
+EXCURSION_U = np.linspace(0.0, 1.0, 2001)
 
 
-def slow_arm(program: Program) -> Program:
-    """Scale an oscillating flat face's strokes so its arm turns at most FLAT_ARM_SPEED."""
-    peak = 0.0
+def room(kind: str, follower: dict[str, Any]) -> tuple[float, float]:
+    """Return how far the follower may travel below and above its rest position (m or arm deg).
+
+    Derived here from the geometry (not taken from the core): a translating follower must stay
+    above the cam centre, an arm angle psi0 + s inside (0, pi), a flat face clear of the centre.
+    """
+    if kind == 'translating_roller':
+        prime = follower['base_radius'] + follower['roller_radius']
+        return math.sqrt(prime ** 2 - follower['offset'] ** 2), math.inf
+    if kind == 'translating_flat':
+        return follower['base_radius'], math.inf
+    pivot = follower['pivot_distance']
+    if kind == 'oscillating_roller':
+        arm, prime = follower['arm_length'], follower['base_radius'] + follower['roller_radius']
+        psi0 = math.acos((pivot ** 2 + arm ** 2 - prime ** 2) / (2 * pivot * arm))
+        lowest = 0.0
+    else:
+        psi0 = math.asin((follower['base_radius'] + follower['face_offset']) / pivot)
+        lowest = math.asin(max(follower['face_offset'], 0.0) / pivot)
+    return math.degrees(psi0 - lowest), math.degrees(math.pi - lowest - psi0)
+
+
+def fit(kind: str, follower: dict[str, Any], program: Program) -> Program:
+    """Scale a program's positions so the follower uses at most ROOM_SHARE of its free travel
+    and an oscillating flat face's arm turns at most FLAT_ARM_SPEED."""
+    lowest = highest = peak_speed = 0.0
     for index, name in enumerate(program.laws):
         if name == 'dwell':
             continue
+        law, start, end = (law_of(program, index), program.start_position[index],
+                           program.end_position[index])
+        y = law.evaluate(EXCURSION_U)[0]
+        lowest = min(lowest, float(np.min(start + (end - start) * y)))
+        highest = max(highest, float(np.max(start + (end - start) * y)))
         span = math.radians(program.end_deg[index] - program.start_deg[index])
-        stroke = math.radians(abs(program.end_position[index] - program.start_position[index]))
-        peak = max(peak, stroke * law_of(program, index).cv / span)
-    scale = min(1.0, FLAT_ARM_SPEED / peak)
+        peak_speed = max(peak_speed, math.radians(abs(end - start)) * law.cv / span)
+    below, above = room(kind, follower)
+    scale = min(1.0, ROOM_SHARE * below / -lowest if lowest < 0.0 else 1.0,
+                ROOM_SHARE * above / highest if highest > 0.0 else 1.0)
+    if kind == 'oscillating_flat':
+        scale = min(scale, FLAT_ARM_SPEED / peak_speed)
     extra = dict(program.extra)
     if 'motion.via_position' in extra:
         extra['motion.via_position'] = [p * scale for p in extra['motion.via_position']]
@@ -216,16 +248,8 @@ def designs(draw) -> tuple[str, dict[str, Any], Program]:
     """Draw a follower kind, a follower and a program it can follow; return them as config."""
     kind = draw(st.sampled_from(sorted(UNITS)))
     follower = draw(followers(kind))
-    low, high = UNITS[kind]
-    if kind.startswith('translating'):
-        prime = follower['base_radius'] + follower.get('roller_radius', 0.0)
-        reach = math.sqrt(prime ** 2 - follower.get('offset', 0.0) ** 2)
-        high = min(high, TRANSLATING_REACH * reach / 4)
-        low = min(low, high / 2)
-    program = draw(programs((low, high)))
-    if kind == 'oscillating_flat':
-        program = slow_arm(program)
-    return kind, follower, program
+    program = draw(programs(UNITS[kind]))
+    return kind, follower, fit(kind, follower, program)
 
 
 def config_values(kind: str, follower: dict[str, Any], program: Program,
