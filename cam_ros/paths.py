@@ -3,14 +3,18 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
+from ament_index_python.packages import get_package_share_directory
 
 
 def config_dir() -> Path:
-    """Return the shipped config folder: the installed share dir, else the source checkout's."""
+    """Return the shipped config folder: the installed share dir, else the source checkout's.
+
+    The ament index raises OSError when AMENT_PREFIX_PATH is unset (a venv used without
+    sourcing a ROS setup file), and LookupError when cam_ros is not in it.
+    """
     try:
         return Path(get_package_share_directory('cam_ros')) / 'config'
-    except (PackageNotFoundError, ValueError, LookupError):
+    except (LookupError, OSError, ValueError):
         return Path(__file__).resolve().parents[1] / 'config'
 
 
