@@ -156,6 +156,16 @@ def wait_for_answer(client: object, request: object, process: NodeProcess) -> No
             raise AssertionError(f'no answer from {client.srv_name}:\n{process.log()}')
 
 
+def matched_client(node: object, process: NodeProcess, name: str = 'cam') -> object:
+    """Return a new EvaluateCam client of node that the cam node has answered once."""
+    from cam_ros_interfaces.srv import EvaluateCam
+
+    client = node.create_client(EvaluateCam, f'/{name}/evaluate')
+    wait_for_service(client, process, SERVICE_TIMEOUT_S)
+    wait_for_answer(client, EvaluateCam.Request(angles=[0.0]), process)
+    return client
+
+
 @pytest.fixture
 def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor):
     """Start `cam_node` as a subprocess on a params file and wait for its evaluate service.
@@ -163,8 +173,6 @@ def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor
     Returns a function ``start(params_file, *ros_args, name='cam') -> (NodeProcess, client)``;
     every process it started is stopped at teardown.
     """
-    from cam_ros_interfaces.srv import EvaluateCam
-
     with ExitStack() as stack:
         client_node = executor.node('test_client')
 
@@ -178,10 +186,7 @@ def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor
                 subprocess.Popen(command, stdout=log_file, stderr=subprocess.STDOUT, cwd=tmp_path),
                 log_path)
             stack.callback(_reap, process)
-            client = client_node.create_client(EvaluateCam, f'/{name}/evaluate')
-            wait_for_service(client, process, SERVICE_TIMEOUT_S)
-            wait_for_answer(client, EvaluateCam.Request(angles=[0.0]), process)
-            return process, client
+            return process, matched_client(client_node, process, name)
 
         yield start
 

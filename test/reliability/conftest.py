@@ -30,7 +30,7 @@ def effort(pytestconfig: pytest.Config) -> Effort:
     if pytestconfig.getoption('--heavy'):
         return Effort(heavy=True, load_s=30.0, clients=3, kills=3, vanishing_clients=5,
                       stall_s=10.0, examples=1000)
-    return Effort(heavy=False, load_s=5.0, clients=3, kills=1, vanishing_clients=1, stall_s=1.0,
+    return Effort(heavy=False, load_s=5.0, clients=3, kills=1, vanishing_clients=2, stall_s=1.0,
                   examples=100)
 
 

@@ -14,7 +14,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 from cam_ros_interfaces.srv import EvaluateCam
-from conftest import CONFIG_DIR, NodeProcess, wait_for_service
+from conftest import CONFIG_DIR, matched_client, NodeProcess
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from cam_ros.core import CamDesign, build_design, parse_parameters, read_parameters_file
@@ -170,7 +170,7 @@ def start_limited_node(params_file: Path, *ros_args: str, file_size_limit: int, 
                        client_node: Any) -> tuple[NodeProcess, Any]:
     """Start cam_node with RLIMIT_FSIZE = file_size_limit bytes and SIGXFSZ ignored.
 
-    Like the start_cam_node fixture (same command, environment and readiness check), but the
+    Like the start_cam_node fixture (same command, environment and matched client), but the
     limits are set by a tiny launcher that then execs the node, so no Python code runs between
     fork and exec of this threaded test process. The caller stops the process.
     """
@@ -185,9 +185,8 @@ def start_limited_node(params_file: Path, *ros_args: str, file_size_limit: int, 
              '__node:=cam', '--params-file', str(params_file), *ros_args],
             stdout=log, stderr=subprocess.STDOUT, cwd=cwd, env=dict(os.environ))
     node = NodeProcess(process, log_path)
-    client = client_node.create_client(EvaluateCam, '/cam/evaluate')
     try:
-        wait_for_service(client, node, READY_TIMEOUT_S)
+        client = matched_client(client_node, node)
     except BaseException:
         process.kill()
         process.wait()
