@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .config import CamConfig, MotionConfig
+from .dynamics import DynamicsValues, FollowerDynamics
 from .errors import InvalidParameter
 from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
                        TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry,
@@ -48,6 +49,7 @@ class CamState:
     d3s: np.ndarray
     pressure_angle: np.ndarray
     radius_of_curvature: np.ndarray
+    dynamics: DynamicsValues | None = None  # None: the design has no dynamics
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,8 +72,17 @@ class CamDesign:
         timed = motion.at_speed(self.config.cam_speed)
         pressure_angle, radius = contact_measures(self.follower, theta, motion.s, motion.ds,
                                                   motion.d2s, clockwise=self.clockwise)
+        forces = None if self.dynamics is None else self.dynamics.values(
+            motion.s, motion.ds, motion.d2s, pressure_angle, radius)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
-                        motion.ds, motion.d2s, motion.d3s, pressure_angle, radius)
+                        motion.ds, motion.d2s, motion.d3s, pressure_angle, radius, forces)
+
+    @cached_property
+    def dynamics(self) -> FollowerDynamics | None:
+        """Return the follower-train model at the cam speed, None without dynamics."""
+        config = self.config.dynamics
+        return None if config is None else FollowerDynamics(config, self.follower,
+                                                            self.config.cam_speed)
 
     def profile(self, count: int) -> CamState:
         """Evaluate the cam at count equally spaced angles over one revolution from 0."""
@@ -86,9 +97,10 @@ class CamDesign:
 
     @cached_property
     def check(self) -> GeometryCheck:
-        """Check the design against its configured limits on a dense sampling."""
+        """Check the design against its limits: extremes refined from a dense sampling."""
         return check_geometry(self.geometry(), max_pressure_angle=self.config.pressure_angle_limit,
-                              min_radius=self.config.min_radius_of_curvature)
+                              min_radius=self.config.min_radius_of_curvature,
+                              program=self.program)
 
     def warnings(self) -> list[str]:
         """Say, once, what a designer must know: limits broken, undercut, discontinuities."""

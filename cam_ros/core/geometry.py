@@ -40,13 +40,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
 from .errors import InvalidParameter
+from .extremes import refine_extremum, refine_roots
+from .program import MotionProgram
 
 Array = np.ndarray
+TWO_PI = 2.0 * math.pi
 
 
 def _frozen(values: Array) -> Array:
@@ -477,28 +480,109 @@ def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s:
 
 # ---------------------------------------------------------------- checks
 
-def _undercut_margin(geometry: CamGeometry) -> Array:
+Measure = Callable[[Any], Array]  # of a CamGeometry or a _Profile: the same attribute names
+
+
+def motion_breaks(program: MotionProgram) -> Array:
+    """Return the cam angles (rad) where the motion or a derivative may jump.
+
+    Every segment joint and every breakpoint inside a piecewise law.
+    """
+    return np.array([segment.start + at * segment.span for segment in program.segments
+                     for at in (0.0, *segment.law.breakpoints)])
+
+
+class _Extremes:
+    """Extremes and zeros of a geometry's measures, refined on the exact motion when given.
+
+    With a program, every extreme is refined from its grid bracket on the exact geometry (see
+    extremes.py); without one, the grid's values are taken as they are.
+    """
+
+    def __init__(self, geometry: CamGeometry, program: Optional[MotionProgram]):
+        self._geometry, self._program = geometry, program
+        theta = np.asarray(geometry.theta)
+        if program is not None:
+            theta = np.mod(theta, TWO_PI)
+        order = np.argsort(theta, kind='stable')
+        distinct = np.concatenate(([True], np.diff(theta[order]) > 0.0))
+        self._order, self._theta = order[distinct], theta[order][distinct]
+        self._breaks = None if program is None else motion_breaks(program)
+
+    def _function(self, measure: Measure) -> Callable[[Array], Array]:
+        """Return the exact measure as a function of cam angles."""
+        follower, program = self._geometry.follower, self._program
+        sigma = -1 if self._geometry.clockwise else 1
+        assert program is not None
+
+        def func(angles: Array) -> Array:
+            motion = program.evaluate(angles)
+            return measure(follower._geometry(angles, sigma, motion.s, motion.ds, motion.d2s))
+        return func
+
+    def extreme(self, measure: Measure, kind: str) -> tuple[float, float]:
+        """Return (value, angle) of the largest (kind='max') or smallest ('min') measure."""
+        values = np.asarray(measure(self._geometry))[self._order]
+        if self._program is None or values.size < 3:
+            index = int(np.argmax(values) if kind == 'max' else np.argmin(values))
+            return float(values[index]), float(self._theta[index])
+        return refine_extremum(self._function(measure), self._theta, values, kind,
+                               breaks=self._breaks)
+
+    def zeros(self, measure: Measure) -> Array:
+        """Return the angles where the measure changes sign (grid: interpolated)."""
+        values = np.asarray(measure(self._geometry))[self._order]
+        if self._program is None or values.size < 3:
+            return _zero_crossings(self._theta, values)
+        return refine_roots(self._function(measure), self._theta, values, breaks=self._breaks)
+
+
+def _pressure_angle_of(measures: Any) -> Array:
+    return measures.pressure_angle
+
+
+def _abs_pressure_angle(measures: Any) -> Array:
+    return np.abs(measures.pressure_angle)
+
+
+def _curvature(measures: Any) -> Array:
+    return measures.pitch_curvature
+
+
+def _surface_radius(measures: Any) -> Array:
+    return measures.surface_radius
+
+
+def _contact_offset(measures: Any) -> Array:
+    return measures.contact_offset
+
+
+def _undercut_measure(follower: Follower) -> Measure:
     """Return a smooth margin that is <= 0 exactly where the surface is undercut or has a cusp.
 
     Roller: 1 - Rr * kappa_pitch (<= 0 where 0 < rho_pitch <= Rr); flat face: rho.
     """
-    follower = geometry.follower
     if isinstance(follower, ROLLERS):
-        return 1.0 - follower.roller_radius * geometry.pitch_curvature
-    return np.asarray(geometry.surface_radius)
+        roller = follower.roller_radius
+        return lambda measures: 1.0 - roller * measures.pitch_curvature
+    return _surface_radius
 
 
-def _radius_margin(geometry: CamGeometry, min_radius: float) -> float:
-    """Return a number >= 0 exactly when every convex part of the surface has rho >= min_radius."""
-    follower = geometry.follower
+def _worst_curvature(extremes: _Extremes, follower: Follower) -> tuple[float, float]:
+    """Return (worst, angle): the largest pitch curvature (rollers), the smallest rho (flats)."""
     if isinstance(follower, ROLLERS):
-        return 1.0 / (min_radius + follower.roller_radius) - float(geometry.pitch_curvature.max())
-    return float(geometry.surface_radius.min()) - min_radius
+        return extremes.extreme(_curvature, 'max')
+    return extremes.extreme(_surface_radius, 'min')
 
 
-def _pressure_margin(geometry: CamGeometry, max_pressure_angle: float) -> float:
-    """Return a number >= 0 exactly when max |pressure angle| <= max_pressure_angle."""
-    return max_pressure_angle - float(np.abs(geometry.pressure_angle).max())
+def _radius_margin(follower: Follower, worst: float, min_radius: float) -> float:
+    """Return a number >= 0 exactly when every convex part of the surface has rho >= min_radius.
+
+    worst is _worst_curvature's value.
+    """
+    if isinstance(follower, ROLLERS):
+        return 1.0 / (min_radius + follower.roller_radius) - worst
+    return worst - min_radius
 
 
 def _zero_crossings(theta: Array, margin: Array) -> Array:
@@ -531,12 +615,15 @@ def _check_limits(max_pressure_angle: Optional[float],
 class GeometryCheck:
     """Engineering verdict on a cam geometry: undercut, pressure angle, curvature, face width.
 
-    undercut_angles are the sampled cam angles (rad) where the surface is undercut or has a cusp
-    (convex surface radius <= 0: 0 < rho_pitch <= Rr for rollers, rho <= 0 for flat faces);
-    cusp_angles are where that starts or ends (interpolated). min_radius is the smallest radius of
-    curvature of the convex parts of the surface (m; inf if none is convex). The *_ok fields are
-    None when no limit was given. face_min/face_max (m) bound the contact offset on a flat face
-    (None for rollers): the face must reach from face_min to face_max.
+    Extremes are refined on the exact motion when check_geometry was given the program, else
+    they are the samples' (see check_geometry). undercut_angles are the sampled cam angles (rad)
+    where the surface is undercut or has a cusp (convex surface radius <= 0: 0 < rho_pitch <= Rr
+    for rollers, rho <= 0 for flat faces), with the refined worst angle added when only it is;
+    cusp_angles are where that starts or ends. min_radius is the smallest radius of curvature of
+    the convex parts of the surface (m; inf if none is convex). The *_ok fields are None when no
+    limit was given. face_min/face_max (m) bound the contact offset on a flat face (None for
+    rollers): the face must reach from face_min to face_max. pressure_angle_high/low are the
+    signed extremes of the pressure angle (rad) and the angles where they occur.
     """
 
     undercut_angles: Array
@@ -551,6 +638,8 @@ class GeometryCheck:
     radius_ok: Optional[bool]
     face_min: Optional[float]
     face_max: Optional[float]
+    pressure_angle_high: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_low: tuple[float, float] = (math.nan, math.nan)
 
     @property
     def undercut(self) -> bool:
@@ -572,40 +661,54 @@ class GeometryCheck:
 
 
 def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float] = None,
-                   min_radius: Optional[float] = None) -> GeometryCheck:
+                   min_radius: Optional[float] = None,
+                   program: Optional[MotionProgram] = None) -> GeometryCheck:
     """Check a geometry for undercut and cusps and against optional limits.
 
     max_pressure_angle (rad) bounds |pressure angle|; min_radius (m) bounds the radius of
     curvature of the convex parts of the surface (for a roller, a pitch-curve limit P is the
-    surface limit P - Rr). The verdict is returned as data, never raised.
+    surface limit P - Rr). With program (the motion the geometry was sampled from), every
+    extreme is refined between the samples on the exact motion and cusps are roots; without it,
+    the samples' values are used. The verdict is returned as data, never raised.
     """
     if not isinstance(geometry, CamGeometry):
         raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
+    if program is not None and not isinstance(program, MotionProgram):
+        raise InvalidParameter('program', program, 'must be a MotionProgram or None')
     angle_limit, radius_limit = _check_limits(max_pressure_angle, min_radius)
-    theta = geometry.theta
-    margin = _undercut_margin(geometry)
-    magnitude = np.abs(geometry.pressure_angle)
-    worst = int(np.argmax(magnitude))
-    if isinstance(geometry.follower, ROLLERS):
-        index = int(np.argmax(geometry.pitch_curvature))
-        peak = float(geometry.pitch_curvature[index])
-        smallest = float(geometry.surface_radius[index]) if peak > 0.0 else math.inf
+    follower = geometry.follower
+    extremes = _Extremes(geometry, program)
+    high = extremes.extreme(_pressure_angle_of, 'max')
+    low = extremes.extreme(_pressure_angle_of, 'min')
+    peak, peak_at = max(high, (-low[0], low[1]))
+    worst, worst_at = _worst_curvature(extremes, follower)
+    if isinstance(follower, ROLLERS):
+        undercut_margin = 1.0 - follower.roller_radius * worst
+        smallest = 1.0 / worst - follower.roller_radius if worst > 0.0 else math.inf
     else:
-        index = int(np.argmin(geometry.surface_radius))
-        smallest = float(geometry.surface_radius[index])
-    offset = geometry.contact_offset
+        undercut_margin = smallest = worst
+    undercut = _undercut_measure(follower)
+    at = np.asarray(geometry.theta)[np.asarray(undercut(geometry)) <= 0.0]
+    if undercut_margin <= 0.0 and not at.size:
+        at = np.array([worst_at])
+    face = None
+    if geometry.contact_offset is not None:
+        face = (extremes.extreme(_contact_offset, 'min')[0],
+                extremes.extreme(_contact_offset, 'max')[0])
     return GeometryCheck(
-        undercut_angles=_frozen(theta[margin <= 0.0]),
-        cusp_angles=_frozen(_zero_crossings(theta, margin)),
-        max_pressure_angle=float(magnitude[worst]),
-        max_pressure_angle_at=float(theta[worst]),
+        undercut_angles=_frozen(at),
+        cusp_angles=_frozen(extremes.zeros(undercut)),
+        max_pressure_angle=peak,
+        max_pressure_angle_at=peak_at,
         pressure_angle_limit=angle_limit,
-        pressure_angle_ok=None if angle_limit is None
-        else _pressure_margin(geometry, angle_limit) >= 0.0,
+        pressure_angle_ok=None if angle_limit is None else angle_limit - peak >= 0.0,
         min_radius=smallest,
-        min_radius_at=float(theta[index]),
+        min_radius_at=worst_at,
         radius_limit=radius_limit,
-        radius_ok=None if radius_limit is None else _radius_margin(geometry, radius_limit) >= 0.0,
-        face_min=None if offset is None else float(offset.min()),
-        face_max=None if offset is None else float(offset.max()),
+        radius_ok=None if radius_limit is None
+        else _radius_margin(follower, worst, radius_limit) >= 0.0,
+        face_min=None if face is None else face[0],
+        face_max=None if face is None else face[1],
+        pressure_angle_high=high,
+        pressure_angle_low=low,
     )

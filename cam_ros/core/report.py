@@ -1,8 +1,9 @@
 """The design report: the numbers `cam_ros report` prints, computed from a CamDesign.
 
 Everything is SI (m, rad, s); positions and their derivatives are in rad (arm angle) for
-oscillating followers. Extremes come from the dense sampling the design's checks use
-(CHECK_SAMPLES per revolution), so the report and the verdict agree.
+oscillating followers. Extremes are the design check's: located on CHECK_SAMPLES samples per
+revolution and refined between them on the exact motion, so the report and the verdict agree;
+the sizing refines its extremes the same way.
 """
 from __future__ import annotations
 
@@ -37,8 +38,9 @@ class DesignReport:
     pressure_angle_max/min are the signed extremes; radius_of_curvature_min is the smallest radius
     of the convex parts of the surface (inf if none is convex); min_base_radius is the smallest
     base radius meeting the configured limits with every other parameter kept (None if none
-    does), governing says which limit sets it; face_range is the signed interval (m) of contact
-    offsets a flat face must cover (None for rollers).
+    does), governing says which limit sets it; max_base_radius is the upper end of that feasible
+    interval where the base radius is bounded (oscillating followers; None otherwise); face_range
+    is the signed interval (m) of contact offsets a flat face must cover (None for rollers).
     """
 
     design: CamDesign
@@ -52,6 +54,8 @@ class DesignReport:
     cusp_angles: tuple[float, ...]
     min_base_radius: Optional[float]
     min_base_radius_governing: str
+    max_base_radius: Optional[float]
+    max_base_radius_governing: str
     face_range: Optional[tuple[float, float]]
     segments: tuple[SegmentSummary, ...]
     continuity: tuple[Discontinuity, ...]
@@ -84,31 +88,31 @@ def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
 
 
 def design_report(design: CamDesign) -> DesignReport:
-    """Compute the report of a design (one dense geometry pass plus the base-radius sizing)."""
+    """Compute the report of a design (its refined check plus the base-radius sizing)."""
     theta = np.linspace(0.0, 2.0 * math.pi, CHECK_SAMPLES, endpoint=False)
     motion = design.program.evaluate(theta)
-    geometry = design.geometry(CHECK_SAMPLES)
     check = design.check
     sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
                               clockwise=design.clockwise,
                               max_pressure_angle=design.config.pressure_angle_limit,
-                              min_radius=design.config.min_radius_of_curvature)
-    high = int(np.argmax(geometry.pressure_angle))
-    low = int(np.argmin(geometry.pressure_angle))
+                              min_radius=design.config.min_radius_of_curvature,
+                              program=design.program)
     face = None if check.face_min is None or check.face_max is None \
         else (check.face_min, check.face_max)
     return DesignReport(
         design=design,
-        pressure_angle_max=float(geometry.pressure_angle[high]),
-        pressure_angle_max_at=float(theta[high]),
-        pressure_angle_min=float(geometry.pressure_angle[low]),
-        pressure_angle_min_at=float(theta[low]),
+        pressure_angle_max=check.pressure_angle_high[0],
+        pressure_angle_max_at=check.pressure_angle_high[1],
+        pressure_angle_min=check.pressure_angle_low[0],
+        pressure_angle_min_at=check.pressure_angle_low[1],
         radius_of_curvature_min=check.min_radius,
         radius_of_curvature_min_at=check.min_radius_at,
         undercut=check.undercut,
         cusp_angles=tuple(float(angle) for angle in check.cusp_angles),
         min_base_radius=sizing.base_radius,
         min_base_radius_governing=sizing.governing,
+        max_base_radius=sizing.max_base_radius,
+        max_base_radius_governing=sizing.max_governing,
         face_range=face,
         segments=design.program.segment_summary(),
         continuity=design.program.continuity_report(),

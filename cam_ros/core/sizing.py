@@ -1,47 +1,57 @@
-"""Base-radius sizing: an exact root find on sampled motion and the quick textbook estimate.
+"""Base-radius sizing: an exact root find on the motion and the quick textbook estimate.
 
-The exact sizing works on the motion samples it is given: the extremes of pressure angle and
-curvature between samples are not seen, so pass densely sampled arrays (DENSE_SAMPLES = 3600 per
-revolution or more; a table every 10 degrees can miss the worst angle by a wide margin).
+Given the motion program, the sizing refines every extreme of pressure angle and curvature
+between the samples on the exact motion, so the limits hold at the returned radius. Without it,
+it works on the samples alone and the extremes between them are not seen: then pass densely
+sampled arrays (DENSE_SAMPLES = 3600 per revolution or more; a table every 10 degrees can miss
+the worst angle by a wide margin).
 """
 from __future__ import annotations
 
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
 from .errors import InvalidParameter
 from .geometry import (
-    _check_follower, _check_limits, _check_motion, _geometry, _pressure_limit, _pressure_margin,
-    _radius_margin, _real, Follower,
+    _abs_pressure_angle, _check_follower, _check_limits, _check_motion, _Extremes, _geometry,
+    _pressure_limit, _radius_margin, _real, _worst_curvature, Follower,
 )
+from .program import MotionProgram
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
-SIZING_TOLERANCE = 1e-9  # m: the returned radius is within this (plus 4 ulp) of the exact one
+SIZING_TOLERANCE = 1e-12  # m: the returned radius is within this (plus 4 ulp) of the exact one
 SIZING_GRID = 256  # candidate radii scanned for the first feasible one (bounded followers)
 DOUBLINGS = 40  # unbounded followers: scan Rb_min + scale * 2**k for k in [-DOUBLINGS, DOUBLINGS]
 BIG_CAM_SIZE_INDEX = 5.0  # R/h above this is a big cam (seed 002)
 _RTOL = 4.0 * float(np.finfo(float).eps)  # brentq's smallest relative tolerance
 _INVALID = -1.0  # margin of a radius at which the follower cannot follow the motion
 
+Margins = Callable[[float, bool], dict[str, float]]
+
 
 @dataclass(frozen=True)
 class BaseRadiusSizing:
-    """Smallest base radius meeting the limits, found on the sampled motion.
+    """Smallest base radius meeting the limits, found on the sampled (or exact) motion.
 
     follower is the input follower with base_radius replaced (None if infeasible). governing
     names what sets the radius: 'pressure_angle', 'radius' (curvature), 'geometry' (the follower
     cannot follow the motion below it) or 'search_bound' (the limits hold down to the smallest
-    radius scanned); 'infeasible' when no scanned radius meets them.
+    radius scanned); 'infeasible' when no scanned radius meets them. max_base_radius is the
+    upper end of the feasible interval that starts at base_radius when the follower's base
+    radius is bounded (oscillating followers), set by max_governing; None for translating
+    followers (the limits only ease as the cam grows).
     """
 
     follower: Optional[Follower]
     base_radius: Optional[float]
     governing: str
     tolerance: float
+    max_base_radius: Optional[float] = None
+    max_governing: str = ''
 
     @property
     def feasible(self) -> bool:
@@ -50,17 +60,22 @@ class BaseRadiusSizing:
 
 
 def _margins(follower: Follower, motion: tuple[np.ndarray, ...], clockwise: bool,
-             angle: Optional[float], radius: Optional[float]) -> dict[str, float]:
-    """Return each limit's margin (>= 0 when met) for one follower, or the invalid sentinel."""
+             angle: Optional[float], radius: Optional[float],
+             program: Optional[MotionProgram]) -> dict[str, float]:
+    """Return each limit's margin (>= 0 when met) for one follower, or the invalid sentinel.
+
+    With a program the extremes are refined on the exact motion, else the samples' are taken.
+    """
     theta, s, ds, d2s = motion
     if follower._motion_problem(s, ds) is not None:
         return {'geometry': _INVALID}
-    geometry = _geometry(follower, theta, s, ds, d2s, clockwise)
+    extremes = _Extremes(_geometry(follower, theta, s, ds, d2s, clockwise), program)
     margins = {}
     if angle is not None:
-        margins['pressure_angle'] = _pressure_margin(geometry, angle)
+        margins['pressure_angle'] = angle - extremes.extreme(_abs_pressure_angle, 'max')[0]
     if radius is not None:
-        margins['radius'] = _radius_margin(geometry, radius)
+        worst = _worst_curvature(extremes, follower)[0]
+        margins['radius'] = _radius_margin(follower, worst, radius)
     return margins
 
 
@@ -74,10 +89,49 @@ def _candidates(follower: Follower, s: np.ndarray) -> np.ndarray:
     return np.linspace(low, high, SIZING_GRID + 2)[1:-1]
 
 
+def _boundary(margins: Margins, bad: float, good: float, tol: float) -> tuple[float, str]:
+    """Return the radius nearest the boundary between bad and good where the limits hold.
+
+    The limits fail at bad and hold at good (exact margins); the result lies on good's side,
+    within tol (+ 4 ulp) of the boundary, and the limit that fails just beyond it is named.
+    """
+    from scipy.optimize import brentq  # here: scipy costs the node 0.5 s start-up
+
+    def worst(base_radius: float) -> float:
+        return min(margins(base_radius, True).values())
+
+    root = float(brentq(worst, min(bad, good), max(bad, good), xtol=tol, rtol=_RTOL))
+    toward = math.copysign(1.0, good - bad)
+    step = tol + _RTOL * abs(root)
+    found = good
+    for shift in (0.0, 1.0, 2.0, 4.0, 8.0):
+        trial = root + toward * shift * step
+        if (trial - good) * toward >= 0.0:
+            break
+        if worst(trial) >= 0.0:
+            found = trial
+            break
+    beyond = margins(found - toward * 2.0 * step, True)
+    return found, min(beyond, key=beyond.__getitem__)
+
+
+def _lowest_feasible(margins: Margins, candidates: np.ndarray, start: int) -> Optional[int]:
+    """Return the first candidate index from start whose exact margins all hold.
+
+    Sample margins are never above exact ones, so candidates failing on the samples are skipped
+    with the cheap test.
+    """
+    for index in range(start, candidates.size):
+        radius = float(candidates[index])
+        if all(min(margins(radius, exact).values()) >= 0.0 for exact in (False, True)):
+            return index
+    return None
+
+
 def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d2s: object, *,
                      clockwise: bool = False, max_pressure_angle: Optional[float] = None,
-                     min_radius: Optional[float] = None,
-                     tolerance: float = SIZING_TOLERANCE) -> BaseRadiusSizing:
+                     min_radius: Optional[float] = None, tolerance: float = SIZING_TOLERANCE,
+                     program: Optional[MotionProgram] = None) -> BaseRadiusSizing:
     """Find the smallest base radius (m) that meets the limits on the sampled motion.
 
     The limits: max |pressure angle| <= max_pressure_angle (rad) and radius of curvature of the
@@ -85,7 +139,10 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
     stay fixed. Candidate radii are scanned upwards and the first feasible one is refined with
     brentq against its infeasible predecessor; the result meets the limits and lies within
     tolerance (m) of the exact boundary. If the margins are not monotone in the radius, a feasible
-    window narrower than the scan spacing can be missed. Pass dense samples (see DENSE_SAMPLES).
+    window narrower than the scan spacing can be missed. Given program (the motion the samples
+    come from), every extreme is refined between the samples on the exact motion, so the limits
+    hold exactly at the returned radius; without it pass dense samples (see DENSE_SAMPLES).
+    For followers with a bounded base radius the feasible interval's upper end is found too.
     """
     _check_follower(follower)
     motion = _check_motion(theta, s, ds, d2s)
@@ -93,31 +150,50 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
     if angle is None and radius is None:
         raise InvalidParameter('max_pressure_angle', None,
                                'give max_pressure_angle and/or min_radius to size for')
+    if program is not None and not isinstance(program, MotionProgram):
+        raise InvalidParameter('program', program, 'must be a MotionProgram or None')
     tol = _real('tolerance', tolerance, lambda x: x > 0.0, '> 0 (m)')
 
-    def margins(base_radius: float) -> dict[str, float]:
+    def margins(base_radius: float, exact: bool) -> dict[str, float]:
         trial = dataclasses.replace(follower, base_radius=base_radius)
-        return _margins(trial, motion, bool(clockwise), angle, radius)
-
-    def worst(base_radius: float) -> float:
-        return min(margins(base_radius).values())
+        return _margins(trial, motion, bool(clockwise), angle, radius,
+                        program if exact else None)
 
     candidates = _candidates(follower, motion[1])
-    index = next((i for i, r in enumerate(candidates) if worst(float(r)) >= 0.0), None)
+    index = _lowest_feasible(margins, candidates, 0)
     if index is None:
         return BaseRadiusSizing(None, None, 'infeasible', tol)
     if index == 0:
-        found = float(candidates[0])
-        return BaseRadiusSizing(dataclasses.replace(follower, base_radius=found), found,
-                                'search_bound', tol)
-    from scipy.optimize import brentq  # here: scipy costs the node 0.5 s start-up
+        found, governing = float(candidates[0]), 'search_bound'
+    else:
+        found, governing = _boundary(margins, float(candidates[index - 1]),
+                                     float(candidates[index]), tol)
+    top, top_governing = _upper_end(margins, follower, candidates, index, tol)
+    return BaseRadiusSizing(dataclasses.replace(follower, base_radius=found), found, governing,
+                            tol, top, top_governing)
 
-    low, high = float(candidates[index - 1]), float(candidates[index])
-    root = float(brentq(worst, low, high, xtol=tol, rtol=_RTOL))
-    found = root if worst(root) >= 0.0 else min(high, root + tol + _RTOL * root)
-    below = margins(max(low, found - 2.0 * (tol + _RTOL * found)))
-    return BaseRadiusSizing(dataclasses.replace(follower, base_radius=found), found,
-                            min(below, key=below.__getitem__), tol)
+
+def _upper_end(margins: Margins, follower: Follower, candidates: np.ndarray, index: int,
+               tol: float) -> tuple[Optional[float], str]:
+    """Return the upper end of the feasible interval holding candidates[index] (bounded only).
+
+    (None, '') for followers whose base radius is unbounded above.
+    """
+    if math.isinf(follower._base_radius_bounds()[1]):
+        return None, ''
+    beyond = next((j for j in range(index + 1, candidates.size)
+                   if min(margins(float(candidates[j]), False).values()) < 0.0), None)
+    if beyond is None:
+        last = candidates.size - 1
+        while min(margins(float(candidates[last]), True).values()) < 0.0:
+            last -= 1  # stops at index, which holds
+        if last == candidates.size - 1:
+            return float(candidates[last]), 'search_bound'
+        beyond = last + 1
+    good = beyond - 1
+    while min(margins(float(candidates[good]), True).values()) < 0.0:
+        good -= 1
+    return _boundary(margins, float(candidates[good + 1]), float(candidates[good]), tol)
 
 
 @dataclass(frozen=True)
