@@ -1,0 +1,150 @@
+"""Cam tables: knot values, interpolation errors against closed forms and dense brute force."""
+import math
+
+import numpy as np
+import pytest
+from cam_motions import seed_000
+from scipy.interpolate import CubicHermiteSpline
+
+from cam_ros.core.cam_table import (equidistant_table, interpolate, MAX_POINTS, stroke,
+                                    tolerance_table)
+from cam_ros.core.errors import InvalidParameter
+from cam_ros.core.laws import make_law
+from cam_ros.core.program import MotionProgram, Segment
+
+deg = math.radians
+RISE = 0.02  # m, seed 000
+#: Dense brute-force grid over one revolution for the independent error checks.
+DENSE = np.linspace(0.0, 2.0 * math.pi, 1_000_001)
+MICRON = 1e-6
+
+
+def program(*rows):
+    """Build a program from rows (law, start_deg, end_deg, s_start, s_end)."""
+    return MotionProgram([Segment(make_law(law), deg(start), deg(end), s0, s1)
+                          for law, start, end, s0, s1 in rows])
+
+
+SEED_000 = program(('dwell', 0, 90, 0, 0), ('cycloidal', 90, 180, 0, RISE),
+                   ('dwell', 180, 240, RISE, RISE), ('simple_harmonic', 240, 360, RISE, 0))
+#: Parabolic rise over 0-180 deg and parabolic return: |s''| = 4 h / pi^2 everywhere.
+PARABOLIC = program(('constant_acceleration', 0, 180, 0, RISE),
+                    ('constant_acceleration', 180, 360, RISE, 0))
+
+
+def dense_error(table, exact):
+    """Return the largest |interpolant - exact| on DENSE, the interpolant built by SciPy/NumPy."""
+    if table.interpolation == 'linear':
+        approximation = np.interp(DENSE, table.angle, table.position)
+    else:
+        approximation = CubicHermiteSpline(table.angle, table.position, table.slope)(DENSE)
+    return np.abs(approximation - exact).max()
+
+
+def test_equidistant_knots_hold_the_exact_values():
+    table = equidistant_table(SEED_000, 7)
+    np.testing.assert_array_equal(table.master_deg, 360.0 * np.arange(8) / 7)
+    s, ds, d2s = seed_000(table.angle % (2 * math.pi))
+    np.testing.assert_allclose(table.position, s, rtol=0, atol=1e-12 * RISE)
+    np.testing.assert_allclose(table.slope, ds, rtol=0, atol=1e-12 * RISE)
+    np.testing.assert_allclose(table.curvature, d2s, rtol=0, atol=1e-10 * RISE)
+    assert table.position[-1] == table.position[0] and table.slope[-1] == table.slope[0]
+
+
+@pytest.mark.parametrize('points', [4, 8, 36, 360])
+def test_linear_error_of_a_parabola_is_h_squared_over_8_times_curvature(points):
+    # Knots on the halves of each parabolic segment: every chord error is step^2/8 |s''| with
+    # |s''| = 4 h / pi^2, step = 2 pi / points, i.e. 2 h / points^2 exactly.
+    table = equidistant_table(PARABOLIC, points)
+    assert table.max_error == pytest.approx(2 * RISE / points ** 2, rel=1e-9)
+
+
+def test_cubic_hermite_reproduces_a_parabola_exactly():
+    table = equidistant_table(PARABOLIC, 8, 'cubic')
+    assert table.max_error < 1e-14 * RISE
+
+
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+def test_reported_error_matches_dense_brute_force(interpolation):
+    exact = seed_000(DENSE % (2 * math.pi))[0]
+    table = equidistant_table(SEED_000, 50, interpolation)
+    measured = dense_error(table, exact)
+    # The reported worst error is refined on each interval, so it is at least the sampled one
+    # and above it by no more than the dense grid can miss.
+    assert measured <= table.max_error * (1 + 1e-9)
+    assert table.max_error <= measured * (1 + 1e-4)
+
+
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+def test_interpolate_is_the_interpolant_scipy_builds(interpolation):
+    table = tolerance_table(SEED_000, 1e-5, interpolation)
+    theta = DENSE[::97]
+    if interpolation == 'linear':
+        expected = np.interp(theta, table.angle, table.position)
+    else:
+        expected = CubicHermiteSpline(table.angle, table.position, table.slope)(theta)
+    np.testing.assert_allclose(interpolate(table, theta), expected, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize('interpolation, tolerance', [('linear', MICRON), ('linear', 1e-4),
+                                                      ('cubic', MICRON), ('cubic', 1e-8)])
+def test_tolerance_table_stays_within_tolerance(interpolation, tolerance):
+    table = tolerance_table(SEED_000, tolerance, interpolation)
+    exact = seed_000(DENSE % (2 * math.pi))[0]
+    assert table.max_error <= tolerance
+    assert dense_error(table, exact) <= tolerance
+    assert table.tolerance == tolerance
+    for boundary in (0.0, 90.0, 180.0, 240.0, 360.0):  # where derivatives jump
+        assert np.isclose(table.master_deg, boundary, rtol=0, atol=1e-12).any(), boundary
+    assert np.all(np.diff(table.master_deg) > 0)
+
+
+def test_each_placed_interval_is_as_long_as_the_tolerance_allows():
+    # Greedy placement: stretching any interval that does not end at a segment boundary by
+    # 0.1 % of its length breaks the tolerance (checked by brute force on the stretched chord).
+    table = tolerance_table(SEED_000, MICRON)
+    boundaries = np.radians([90.0, 180.0, 240.0, 360.0])
+    stretched = 0
+    for start, end in zip(table.angle[:-1], table.angle[1:]):
+        if np.isclose(end, boundaries, rtol=0, atol=1e-12).any():
+            continue
+        longer = end + 1e-3 * (end - start)
+        theta = np.linspace(start, longer, 20001)
+        s = seed_000(theta)[0]
+        chord = s[0] + (s[-1] - s[0]) * (theta - start) / (longer - start)
+        assert np.abs(s - chord).max() > MICRON, math.degrees(start)
+        stretched += 1
+    assert stretched > 100
+
+
+def test_a_micrometre_needs_far_fewer_placed_points_than_equidistant_ones():
+    exact = seed_000(DENSE % (2 * math.pi))[0]
+    placed = tolerance_table(SEED_000, MICRON)
+    count = len(placed.master_deg) - 1
+    # Twice as many equidistant points still miss a micrometre.
+    assert dense_error(equidistant_table(SEED_000, 2 * count), exact) > MICRON
+    cubic = tolerance_table(SEED_000, MICRON, 'cubic')
+    assert len(cubic.master_deg) < count / 4
+
+
+def test_stroke_is_the_travel_between_the_extreme_positions():
+    assert stroke(SEED_000) == pytest.approx(RISE)
+    shifted = program(('cycloidal', 0, 180, -0.01, 0.03), ('cycloidal', 180, 360, 0.03, -0.01))
+    assert stroke(shifted) == pytest.approx(0.04)
+
+
+@pytest.mark.parametrize('points', [0, 1, -5, 2.0, True, MAX_POINTS + 1])
+def test_bad_point_counts_are_refused(points):
+    with pytest.raises(InvalidParameter, match=r'^points = .*: must be an integer in \[2, '):
+        equidistant_table(SEED_000, points)
+
+
+@pytest.mark.parametrize('tolerance', [0.0, -1e-6, 0.021, math.nan, math.inf, 1e-12, '1e-6'])
+def test_bad_tolerances_are_refused(tolerance):
+    with pytest.raises(InvalidParameter, match=r'^tolerance = .*: must be in \[2e-09, 0.02\]'):
+        tolerance_table(SEED_000, tolerance)
+
+
+def test_unknown_interpolation_is_refused():
+    with pytest.raises(InvalidParameter, match='interpolation = .spline.: must be one of linear'):
+        equidistant_table(SEED_000, 10, 'spline')
