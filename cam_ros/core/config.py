@@ -130,6 +130,28 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('recording.enabled', 'bool', False, 'Record the node\'s topics to MCAP from start-up'),
     _p('recording.directory', 'string', 'recordings', 'Folder of the MCAP recordings'),
     _p('recording.compression', 'string', 'zstd', 'Chunk compression', choices=COMPRESSIONS),
+    _p('master.source', 'string', 'clock', 'Cam angle from the node\'s clock at cam_speed, or '
+       'from a master axis on master.topic (electronic cam)', choices=('clock', 'topic')),
+    _p('master.topic', 'string', '~/master', 'sensor_msgs/JointState topic of the master axis'),
+    _p('master.joint', 'string', 'cam', 'Name of the master joint in the master messages'),
+    _p('master.offset_deg', 'double', 0.0, 'Master position where the cam angle is 0',
+       unit='deg', minimum=-1e9, maximum=1e9),
+    _p('master.scaling', 'double', 1.0, 'Master travel per unit of cam angle', minimum=1e-6,
+       maximum=1e6),
+    _p('master.timeout', 'double', 0.5, 'Master silence after which motion commands stop',
+       unit='s', minimum=1e-3, maximum=3600.0),
+    _p('master.max_speed', 'double', 0.0, 'Master speed above which the node warns (0: no '
+       'check)', unit='rad/s', minimum=0.0, maximum=1e6),
+    _p('slave.offset', 'double', 0.0, 'Added to the scaled follower position',
+       unit='length_unit|deg'),
+    _p('slave.scaling', 'double', 1.0, 'Factor on the follower position', minimum=-1e3,
+       maximum=1e3),
+    _p('command.interface', 'string', 'position', 'Command interface of the follower joint on '
+       '~/commands', choices=('position', 'velocity')),
+    _p('command.trajectory_horizon', 'double', 0.0, 'Look-ahead of ~/joint_trajectory (0: not '
+       'published)', unit='s', minimum=0.0, maximum=60.0),
+    _p('command.trajectory_points', 'integer', 10, 'Points over the trajectory horizon',
+       minimum=1, maximum=1000),
 )
 SPECS: dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
 

@@ -1,0 +1,240 @@
+"""
+Electronic cam: follow a master axis, PLCopen MC_CamIn style, without ROS.
+
+A master position q (rad, any real, multi-turn or negative) maps to the cam angle and the cam to
+the slave (follower) setpoint:
+
+    theta = ((q - q0) / m) mod 2 pi            q0 = master.offset_deg, m = master.scaling
+    y     = k s(theta) + y0                    y0 = slave.offset, k = slave.scaling
+
+With the master speed omega = dq/dt and acceleration alpha = d2q/dt2, the chain rule gives the
+follower's velocity, acceleration and jerk exactly (s', s'', s''' per rad of cam angle):
+
+    v = k s' omega / m
+    a = k (s'' omega**2 / m**2 + s' alpha / m)
+    j = k (s''' omega**3 / m**3 + 3 s'' omega alpha / m**2)   (the master's own jerk taken as 0)
+
+Master samples come with integer-nanosecond stamps. omega is the message's velocity when it has
+one; otherwise, like alpha, it is estimated from the last three positions by the quadratic
+through them (exact for a master at constant acceleration, any spacing of the stamps).
+Successive positions are unwrapped (the master moves less than half a turn between messages),
+so an encoder that wraps at 2 pi and a multi-turn position give the same estimates.
+"""
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass
+from typing import Any, Mapping, NamedTuple, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from .config import CamConfig, LENGTH_UNITS
+from .program import MotionProgram, TWO_PI
+
+#: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.
+WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
+#: Why a master message was dropped (the diagnostics count each).
+NO_JOINT, NOT_FINITE = 'no master joint', 'not finite'
+LENGTHS, BACKWARDS = 'mismatched array lengths', 'stamp not after the previous'
+
+
+@dataclass(frozen=True)
+class CamMapping:
+    """MC_CamIn's offsets and scalings (see the module docstring); SI values."""
+
+    master_offset: float = 0.0  # rad of master
+    master_scaling: float = 1.0  # rad of master per rad of cam
+    slave_offset: float = 0.0  # m, or rad of arm angle
+    slave_scaling: float = 1.0
+
+    def cam_angle(self, master: npt.ArrayLike) -> np.ndarray:
+        """Return the cam angle theta in [0, 2 pi) of master positions (rad)."""
+        return np.mod(self.turns(master), TWO_PI)
+
+    def turns(self, master: npt.ArrayLike) -> np.ndarray:
+        """Return the cam angle before the modulo: (q - q0) / m (rad)."""
+        return (np.asarray(master, dtype=float) - self.master_offset) / self.master_scaling
+
+
+class Setpoints(NamedTuple):
+    """Follower setpoints (m or rad, per s, s^2, s^3) at master positions, and their cam angle."""
+
+    cam_angle: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    jerk: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class ElectronicCam:
+    """A motion program driven by a master axis through a CamMapping."""
+
+    program: MotionProgram
+    mapping: CamMapping
+
+    def slave(self, theta: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """Return the slave position y and dy/dtheta (per rad of cam) at cam angles theta."""
+        values = self.program.evaluate(theta)
+        k = self.mapping.slave_scaling
+        return k * values.s + self.mapping.slave_offset, k * values.ds
+
+    def setpoints(self, master: npt.ArrayLike, omega: npt.ArrayLike = 0.0,
+                  alpha: npt.ArrayLike = 0.0) -> Setpoints:
+        """Return the setpoints at master positions, speeds and accelerations (broadcast)."""
+        mapping = self.mapping
+        theta = mapping.cam_angle(master)
+        values = self.program.evaluate(theta)
+        k, m = mapping.slave_scaling, mapping.master_scaling
+        w = np.asarray(omega, dtype=float) / m  # cam speed and acceleration
+        dw = np.asarray(alpha, dtype=float) / m
+        return Setpoints(theta, k * values.s + mapping.slave_offset, k * values.ds * w,
+                         k * (values.d2s * w ** 2 + values.ds * dw),
+                         k * (values.d3s * w ** 3 + 3.0 * values.d2s * w * dw))
+
+    def ahead(self, master: float, omega: float, times: npt.ArrayLike) -> Setpoints:
+        """Return the setpoints at times (s) from now if the master keeps its speed omega."""
+        return self.setpoints(master + omega * np.asarray(times, dtype=float), omega, 0.0)
+
+
+@dataclass(frozen=True)
+class MasterConfig:
+    """The master.*, slave.* and command.* parameters in SI."""
+
+    source: str
+    topic: str
+    joint: str
+    timeout: float  # s
+    max_speed: float  # rad/s of master; 0: no check
+    mapping: CamMapping
+    interface: str
+    trajectory_horizon: float  # s
+    trajectory_points: int
+
+    @classmethod
+    def from_config(cls, config: CamConfig) -> 'MasterConfig':
+        """Read the (already checked) parameters of a CamConfig."""
+        values: Mapping[str, Any] = config.parameters
+        oscillating = config.follower.type.startswith('oscillating')
+        slave_unit = math.radians(1.0) if oscillating else LENGTH_UNITS[config.length_unit]
+        mapping = CamMapping(math.radians(values['master.offset_deg']), values['master.scaling'],
+                             values['slave.offset'] * slave_unit, values['slave.scaling'])
+        return cls(values['master.source'], values['master.topic'], values['master.joint'],
+                   values['master.timeout'], values['master.max_speed'], mapping,
+                   values['command.interface'], values['command.trajectory_horizon'],
+                   values['command.trajectory_points'])
+
+
+class BadMaster(Exception):
+    """A master message that must be dropped; the reason is one of the module's constants."""
+
+    def __init__(self, reason: str):
+        self.reason = reason
+        super().__init__(reason)
+
+
+def read_master(joint: str, names: Sequence[str], position: Sequence[float],
+                velocity: Sequence[float], effort: Sequence[float]) -> tuple[float, float | None]:
+    """
+    Return the master's (position, velocity or None) from a JointState's arrays.
+
+    Raise BadMaster with the reason (one of NO_JOINT, LENGTHS, NOT_FINITE): the joint must be
+    named, position must have one entry per name and velocity and effort none or one per name
+    (as sensor_msgs/JointState says), the master's values must be finite.
+    """
+    if joint not in names:
+        raise BadMaster(NO_JOINT)
+    count = len(names)
+    if len(position) != count or {len(velocity), len(effort)} - {0, count}:
+        raise BadMaster(LENGTHS)
+    index = names.index(joint)
+    speed = float(velocity[index]) if velocity else None
+    if not math.isfinite(position[index]) or (speed is not None and not math.isfinite(speed)):
+        raise BadMaster(NOT_FINITE)
+    return float(position[index]), speed
+
+
+class MasterState(NamedTuple):
+    """One accepted master sample: stamp (ns), position (rad), speed and acceleration."""
+
+    stamp_ns: int
+    position: float
+    omega: float
+    alpha: float
+    step: float  # unwrapped travel since the previous sample (rad), 0 for the first
+
+
+class MasterTracker:
+    """
+    Accept master samples, estimate speed and acceleration, and watch for silence.
+
+    `accept` checks the stamp and returns the MasterState; `check(now_ns)` moves the status to
+    STALE after half the timeout without a message and to LOST after the timeout, returning the
+    new status once when it changes. A sample after LOST starts the estimates afresh.
+    """
+
+    def __init__(self, timeout_ns: int, max_speed: float = 0.0):
+        self.timeout_ns = int(timeout_ns)
+        self.max_speed = float(max_speed)
+        self.status = WAITING
+        self.dropped: Counter[str] = Counter()
+        self.accepted = 0
+        self.overspeed = False
+        self.last: MasterState | None = None
+        self._history: list[MasterState] = []  # the samples the estimates still use
+        self._received_ns = 0
+
+    def accept(self, stamp_ns: int, position: float, velocity: float | None,
+               received_ns: int) -> MasterState:
+        """Return the state of a new sample; raise BadMaster(BACKWARDS) for an old stamp."""
+        if self.last is not None and stamp_ns <= self.last.stamp_ns:
+            raise BadMaster(BACKWARDS)
+        history = self._history[-2:] if self.status != LOST else []
+        state = estimate(history, stamp_ns, position, velocity)
+        self._history = [*history, state]
+        self.last, self._received_ns, self.status = state, received_ns, OK
+        self.accepted += 1
+        self.overspeed = bool(self.max_speed) and abs(state.omega) > self.max_speed
+        return state
+
+    def drop(self, reason: str) -> None:
+        """Count a dropped message."""
+        self.dropped[reason] += 1
+
+    def check(self, now_ns: int) -> str | None:
+        """Update the status for the time now (ns); return it if it changed."""
+        if self.status == WAITING:
+            return None
+        silent = now_ns - self._received_ns
+        status = LOST if silent >= self.timeout_ns else STALE if 2 * silent >= self.timeout_ns \
+            else OK
+        if status == self.status:
+            return None
+        self.status = status
+        return status
+
+
+def estimate(history: Sequence[MasterState], stamp_ns: int, position: float,
+             velocity: float | None) -> MasterState:
+    """
+    Return the state at a new sample from up to two previous ones (oldest first).
+
+    With the steps d1, d2 over the intervals h1, h2 (newest first), the quadratic through the
+    three positions has alpha = 2 (d1/h1 - d2/h2) / (h1 + h2) and, at the newest sample,
+    omega = d1/h1 + alpha h1/2. A given velocity is taken as omega, and alpha = (omega -
+    omega_before)/h1. Two samples give the mean speed, no acceleration; one gives no speed.
+    """
+    if not history:
+        return MasterState(stamp_ns, position, velocity or 0.0, 0.0, 0.0)
+    previous = history[-1]
+    h1 = (stamp_ns - previous.stamp_ns) * 1e-9
+    d1 = math.remainder(position - previous.position, TWO_PI)
+    if velocity is not None:
+        return MasterState(stamp_ns, position, velocity, (velocity - previous.omega) / h1, d1)
+    if len(history) < 2:
+        return MasterState(stamp_ns, position, d1 / h1, 0.0, d1)
+    h2 = (previous.stamp_ns - history[-2].stamp_ns) * 1e-9
+    alpha = 2.0 * (d1 / h1 - previous.step / h2) / (h1 + h2)
+    return MasterState(stamp_ns, position, d1 / h1 + alpha * h1 / 2.0, alpha, d1)
