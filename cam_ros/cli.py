@@ -70,6 +70,7 @@ NON_NEGATIVE = _number(float, 'a finite number >= 0', lambda x: math.isfinite(x)
 STEP_DEG = _number(float, 'a number in (0, 360]', lambda x: 0.0 < x <= 360.0)
 COUNT = _number(int, 'an integer >= 1', lambda x: x >= 1)
 SAMPLES = _number(int, 'an integer >= 3', lambda x: x >= 3)
+POINTS = _number(int, 'an integer >= 2', lambda x: x >= 2)
 
 
 def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
@@ -115,16 +116,38 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='cam angle at which the follower is drawn, deg (default 0)')
 
     parser = _command(sub, 'export', 'cam_ros.commands.design:export',
-                      'Export the cam surface for manufacturing',
-                      'One closed curve in mm in the cam frame (cam centre at the origin): '
-                      'CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
-                      '(closed path).')
+                      'Export the cam surface for manufacturing, or a cam table for a PLC',
+                      'The surface: one closed curve in mm in the cam frame (cam centre at the '
+                      'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
+                      '(closed path). With --cam-table: master position (deg) -> slave '
+                      'position (length_unit, deg for oscillating followers), optionally '
+                      'velocity and acceleration per deg and deg^2 of master.')
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
-                        help='file to write: .csv, .dxf or .svg')
+                        help='file to write: .csv, .dxf or .svg (a cam table: any name)')
     parser.add_argument('--samples', type=SAMPLES, default=None, metavar='N',
                         help='points on the surface, equally spaced in cam angle '
                              '(default 3600)')
+    table = parser.add_argument_group('cam table')
+    table.add_argument('--cam-table', action='store_true',
+                       help='write a cam table instead of the surface')
+    spacing = table.add_mutually_exclusive_group()
+    spacing.add_argument('--points', type=POINTS, default=None, metavar='N',
+                         help='N equidistant master points over one revolution (default 360)')
+    spacing.add_argument('--tolerance', type=POSITIVE, default=None, metavar='T',
+                         help='fewest points whose interpolation stays within T of the exact '
+                              'law (m, or rad for oscillating followers)')
+    table.add_argument('--format', dest='table_format', default=None,
+                       choices=('csv', 'sew', 'xyva', 'st'),
+                       help='csv (default), sew (MOVI-C point list), xyva (CODESYS '
+                            'SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL)')
+    table.add_argument('--interpolation', default=None, choices=('linear', 'cubic'),
+                       help='what the target does between points (default linear); cubic: '
+                            'Hermite with the velocity column as slopes (csv, xyva)')
+    table.add_argument('--end-point', action=argparse.BooleanOptionalAction, default=None,
+                       help='write the periodic end point 360 deg (default: yes)')
+    table.add_argument('--derivatives', action='store_true',
+                       help='csv: add velocity and acceleration columns')
 
 
 def _ros_commands(sub: argparse._SubParsersAction) -> None:

@@ -15,6 +15,8 @@ from cam_ros.commands.common import (degrees, dump_json, end_progress, EXIT_FAIL
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
+#: Points of `export --cam-table` without --points or --tolerance: one per degree.
+DEFAULT_TABLE_POINTS = 360
 PEAK_KEYS = ('peak_velocity', 'peak_acceleration', 'peak_jerk')
 ORDER_NAMES = ('s', 'ds/dtheta', 'd2s/dtheta2', 'd3s/dtheta3')  # derivatives per rad of cam
 #: The arrays of `cam_ros sample`, in output order: (name, CamState field, unit; {p} = m or rad).
@@ -230,13 +232,56 @@ def plot(config: str, output: str, angle_deg: float = 0.0) -> int:
     return verdict('plot', design)
 
 
-def export(config: str, output: str, samples: int | None = None) -> int:
-    """Write the cam surface (mm) to a .csv, .dxf or .svg file for manufacturing."""
+def export(config: str, output: str, samples: int | None = None, cam_table: bool = False,
+           points: int | None = None, tolerance: float | None = None,
+           table_format: str | None = None, interpolation: str | None = None,
+           end_point: bool | None = None, derivatives: bool = False) -> int:
+    """Write the cam surface (mm) for manufacturing, or with cam_table a cam table for a PLC."""
     from cam_ros.export import EXPORT_SAMPLES, WRITERS, export_surface
 
+    if cam_table:
+        if samples is not None:
+            raise InvalidParameter('--samples', samples, 'counts surface points; a cam table '
+                                                         'takes --points or --tolerance')
+        return export_cam_table(config, output, points, tolerance, table_format or 'csv',
+                                interpolation or 'linear', end_point, derivatives)
+    table_options = {'--points': points, '--tolerance': tolerance, '--format': table_format,
+                     '--interpolation': interpolation, '--end-point': end_point,
+                     '--derivatives': derivatives or None}
+    for option, value in table_options.items():
+        if value is not None:
+            raise InvalidParameter(option, value, 'applies to cam tables only: add --cam-table')
     target = output_path('-o', output, tuple(WRITERS))
     design = load_design(config)
     with writing('export', f'writing {target}', target):
         count = export_surface(design, target, EXPORT_SAMPLES if samples is None else samples)
     print(f'wrote {target}: closed cam surface of {count} points (mm)')
+    return verdict('export', design)
+
+
+def export_cam_table(config: str, output: str, points: int | None, tolerance: float | None,
+                     table_format: str, interpolation: str, end_point: bool | None,
+                     derivatives: bool) -> int:
+    """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
+    from cam_ros.cam_table_formats import cam_table_text, check_options, slave_unit
+    from cam_ros.core.cam_table import equidistant_table, tolerance_table
+
+    target = Path(output)
+    with_derivatives = check_options(table_format, interpolation, derivatives)
+    design = load_design(config)
+    try:
+        table = (tolerance_table(design.program, tolerance, interpolation)
+                 if tolerance is not None else
+                 equidistant_table(design.program, DEFAULT_TABLE_POINTS if points is None
+                                   else points, interpolation))
+    except InvalidParameter as err:  # name the option, not the core's argument
+        raise InvalidParameter(f'--{err.parameter}', err.value, err.rule) from err
+    text = cam_table_text(table, design, table_format, Path(config).name,
+                          True if end_point is None else end_point, with_derivatives)
+    with writing('export', f'writing {target}', target):
+        target.write_text(text, encoding='utf-8')
+    unit, factor = slave_unit(design)
+    print(f'wrote {target}: cam table of {len(table.master_deg) - (end_point is False)} '
+          f'points ({table_format}, {interpolation} interpolation), worst deviation '
+          f'{number(table.max_error * factor)} {unit}')
     return verdict('export', design)

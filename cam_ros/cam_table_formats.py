@@ -1,0 +1,148 @@
+"""Write cam tables as the plain text PLCs and drives import: CSV, SEW, XYVA, IEC 61131-3 ST.
+
+Columns: master position in degrees (ascending), slave position in the config's length_unit (deg
+for an oscillating follower), then, where the format has them, slave velocity and acceleration
+per degree and per degree^2 of master (master velocity 1, as cam tables store them; not per
+second).  Numbers are positional (no exponent), with '.' as the decimal separator and the
+shortest digits that read back as the same double, so a file holds the core's values exactly.
+Conventions and their sources: README, "Cam tables for PLCs and drives".
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core.cam_table import CamTable
+from cam_ros.core.config import LENGTH_UNITS
+
+DEGREE = math.pi / 180.0
+#: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).
+SEW_MAX_POINTS = 16383
+#: Name of the array in the structured-text file.
+ST_NAME = 'CamTable'
+ST_INDENT = '    '
+
+
+@dataclass(frozen=True)
+class TableFormat:
+    """What a target format carries and how it is written."""
+
+    derivatives: str  # 'never', 'optional' or 'always' (velocity and acceleration columns)
+    write: Callable[[Sequence[str], np.ndarray, Sequence[str]], str]
+    max_points: int = 0  # 0: no limit of its own
+
+
+def number(value: float) -> str:
+    """Return a double in positional notation that reads back exactly ('-0.0' as '0.0')."""
+    return np.format_float_positional(value + 0.0, unique=True, trim='0')
+
+
+def _rows(values: np.ndarray, separator: str) -> list[str]:
+    return [separator.join(number(value) for value in row) for row in values.tolist()]
+
+
+def _write_csv(notes: Sequence[str], values: np.ndarray, names: Sequence[str]) -> str:
+    header = [f'# {note}' for note in notes] + ['# ' + ','.join(names)]
+    return '\n'.join(header + _rows(values, ',')) + '\n'
+
+
+def _write_sew(notes: Sequence[str], values: np.ndarray, names: Sequence[str]) -> str:
+    return '\n'.join([str(len(values))] + _rows(values, ';')) + '\n'
+
+
+def _write_st(notes: Sequence[str], values: np.ndarray, names: Sequence[str]) -> str:
+    rows, columns = values.shape
+    lines = [f'(* {note} *)' for note in notes]
+    lines += [f'(* {ST_NAME}[i, {column}]: {name} *)' for column, name in enumerate(names)]
+    lines += ['VAR_GLOBAL',
+              f'{ST_INDENT}{ST_NAME} : ARRAY[0..{rows - 1}, 0..{columns - 1}] OF LREAL := [']
+    body = _rows(values, ', ')
+    lines += [f'{ST_INDENT * 2}{row},' for row in body[:-1]] + [f'{ST_INDENT * 2}{body[-1]}];']
+    return '\n'.join(lines + ['END_VAR']) + '\n'
+
+
+FORMATS: dict[str, TableFormat] = {
+    'csv': TableFormat('optional', _write_csv),
+    'sew': TableFormat('never', _write_sew, SEW_MAX_POINTS),
+    'xyva': TableFormat('always', _write_csv),
+    'st': TableFormat('never', _write_st),
+}
+
+
+def check_options(name: str, interpolation: str, derivatives: bool) -> bool:
+    """Return whether the file gets derivative columns; raise for what the format cannot carry."""
+    target = FORMATS[name]
+    if target.derivatives == 'never':
+        if interpolation == 'cubic':
+            raise InvalidParameter('--interpolation', interpolation,
+                                   f'needs the slopes, which --format {name} does not carry: '
+                                   'use csv or xyva')
+        if derivatives:
+            raise InvalidParameter('--derivatives', True, f'--format {name} carries master and '
+                                                          'slave positions only')
+    return target.derivatives == 'always' or derivatives or interpolation == 'cubic'
+
+
+def slave_unit(design: CamDesign) -> tuple[str, float]:
+    """Return the slave unit of the file and its factor from SI (m or rad)."""
+    if design.config.follower.type.startswith('oscillating'):
+        return 'deg', 1.0 / DEGREE
+    unit = design.config.length_unit
+    return unit, 1.0 / LENGTH_UNITS[unit]
+
+
+def table_columns(table: CamTable, design: CamDesign,
+                  derivatives: bool) -> tuple[list[str], np.ndarray]:
+    """Return the column names (with units) and values of a table, in the file's units."""
+    unit, factor = slave_unit(design)
+    names = ['master_deg', f'slave_{unit}']
+    columns = [table.master_deg, table.position * factor]
+    if derivatives:
+        names += [f'velocity_{unit}_per_deg', f'acceleration_{unit}_per_deg2']
+        columns += [table.slope * (factor * DEGREE), table.curvature * (factor * DEGREE ** 2)]
+    return names, np.column_stack(columns)
+
+
+def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point: bool,
+           derivatives: bool) -> list[str]:
+    """Return the header lines: what the table is, what it assumes, how exact it is."""
+    unit, factor = slave_unit(design)
+    si = 'rad' if unit == 'deg' else 'm'
+    steps = len(table.master_deg) - 1
+    spacing = (f'placed for {table.interpolation} interpolation within {table.tolerance:.6g} '
+               f'{si} (greedy, fewest for this check; segment boundaries are points)'
+               if table.tolerance is not None else f'equidistant, every {360.0 / steps:.12g} deg')
+    periodic = ('the periodic end point 360 deg included' if end_point else
+                'periodic: the end point 360 deg repeats 0 deg and is left out')
+    method = ('cubic Hermite, slopes from the velocity column'
+              if table.interpolation == 'cubic' else 'linear')
+    notes = [
+        f'cam table of {source} from cam_ros: {rows} points over master 0-360 deg, {periodic}',
+        f'points: {spacing}',
+        f'interpolation assumed: {method}; worst deviation from the exact law '
+        f'{number(table.max_error * factor)} {unit} (dense check of every interval)',
+    ]
+    if derivatives:
+        notes.append('velocity and acceleration are per deg and per deg^2 of master (master '
+                     'velocity 1), not per second')
+    return notes
+
+
+def cam_table_text(table: CamTable, design: CamDesign, name: str, source: str,
+                   end_point: bool, derivatives: bool) -> str:
+    """Return the file text of a table in format name (derivatives from check_options)."""
+    target = FORMATS[name]
+    names, values = table_columns(table, design, derivatives)
+    if not end_point:
+        values = values[:-1]
+    if target.max_points and len(values) > target.max_points:
+        option, value = (('--points', len(values) - end_point) if table.tolerance is None
+                         else ('--tolerance', table.tolerance))
+        raise InvalidParameter(option, value, f'gives {len(values)} points; --format {name} '
+                                              f'takes at most {target.max_points}')
+    notes = _notes(table, design, source, len(values), end_point, derivatives)
+    return target.write(notes, values, names)

@@ -1,0 +1,202 @@
+"""`cam_ros export --cam-table`: every format read back equals the core; units; bad input."""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, run_cli,
+                         SHIPPED_CONFIGS)
+from scipy.interpolate import CubicHermiteSpline
+
+from cam_ros.commands.common import load_design
+
+CM = 0.01
+RISE_CM = 2.0  # seed 000's stroke in its file unit
+#: Written values must equal the core's to this fraction of the stroke (the issue asks 1e-9).
+ROUND_TRIP = 1e-12
+DENSE_DEG = np.linspace(0.0, 360.0, 720_001)
+
+
+def export_table(capsys, target, *options, config=DEFAULT_CONFIG) -> str:
+    """Run export --cam-table and return the file's text."""
+    run = run_cli(capsys, 'export', config, '-o', target, '--cam-table', *options)
+    assert run.code == 0 and run.err == '', run
+    assert run.out.startswith(f'wrote {target}: cam table of ')
+    return target.read_text()
+
+
+def read_csv(text) -> tuple[list[str], list[str], np.ndarray]:
+    """Return the notes, the column names and the values of a csv/xyva cam table."""
+    header = [line[2:] for line in text.splitlines() if line.startswith('# ')]
+    rows = [line for line in text.splitlines() if not line.startswith('#')]
+    values = np.array([[float(cell) for cell in row.split(',')] for row in rows])
+    return header[:-1], header[-1].split(','), values
+
+
+def exact_cm(master_deg, config=DEFAULT_CONFIG) -> np.ndarray:
+    """Return the core's slave position (cm) at master angles in degrees."""
+    return load_design(config).program.evaluate(np.radians(master_deg)).s / CM
+
+
+def worst_deviation(notes) -> float:
+    """Return the worst deviation the header states, in the file's slave unit."""
+    match = re.search(r'worst deviation from the exact law ([0-9.]+) ', ' '.join(notes))
+    return float(match.group(1))
+
+
+def test_csv_points_equal_the_core_with_units_in_the_header(tmp_path, capsys):
+    notes, names, values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--points', 72))
+    assert names == ['master_deg', 'slave_cm']
+    np.testing.assert_array_equal(values[:, 0], 5.0 * np.arange(73))  # ascending, 0 to 360
+    np.testing.assert_allclose(values[:, 1], exact_cm(values[:, 0]), rtol=0,
+                               atol=ROUND_TRIP * RISE_CM)
+    # Seed 000 in closed form: cycloidal rise of 2 cm over 90-180 deg, s(135) = 1 cm.
+    assert values[27, 1] == pytest.approx(1.0, abs=1e-12)
+    assert 'the periodic end point 360 deg included' in notes[0]
+    assert 'interpolation assumed: linear' in notes[2]
+
+
+def test_derivatives_per_degree_match_differences_of_the_written_positions(tmp_path, capsys):
+    text = export_table(capsys, tmp_path / 'cam.csv', '--points', 36000, '--derivatives')
+    notes, names, values = read_csv(text)
+    assert names == ['master_deg', 'slave_cm', 'velocity_cm_per_deg',
+                     'acceleration_cm_per_deg2']
+    assert 'per deg and per deg^2 of master' in notes[-1]
+    master, s, v, a = values.T
+    step = 0.01  # deg
+    # Away from the segment joints (where derivatives may jump): central differences.
+    inner = np.ones(master.size, bool)
+    inner[[0, -1]] = False
+    for joint in (90.0, 180.0, 240.0, 360.0):
+        inner &= np.abs(master - joint) > 2.5 * step
+    central = (s[2:] - s[:-2]) / (2 * step)
+    second = (s[2:] - 2 * s[1:-1] + s[:-2]) / step ** 2
+    scale_v = np.abs(v).max()
+    scale_a = np.abs(a).max()
+    np.testing.assert_allclose(v[1:-1][inner[1:-1]], central[inner[1:-1]], rtol=0,
+                               atol=1e-6 * scale_v)
+    np.testing.assert_allclose(a[1:-1][inner[1:-1]], second[inner[1:-1]], rtol=0,
+                               atol=1e-5 * scale_a)
+    # Cycloidal rise h over beta = 90 deg peaks at ds/dtheta = 2 h / beta = 2/90 cm per deg.
+    assert scale_v == pytest.approx(2 * RISE_CM / 90.0, rel=1e-9)
+
+
+@pytest.mark.parametrize('end_point, rows', [([], 13), (['--end-point'], 13),
+                                             (['--no-end-point'], 12)])
+def test_periodic_end_point_is_an_option(end_point, rows, tmp_path, capsys):
+    notes, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--points', 12,
+                                             *end_point))
+    assert len(values) == rows and values[-1, 0] == (360.0 if rows == 13 else 330.0)
+    assert f'{rows} points' in notes[0]
+
+
+def test_tolerance_table_interpolates_within_the_tolerance(tmp_path, capsys):
+    notes, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--tolerance', 1e-6))
+    master, slave = values.T
+    error = np.abs(np.interp(DENSE_DEG, master, slave) - exact_cm(DENSE_DEG)).max()
+    assert error <= 1e-6 / CM
+    stated = worst_deviation(notes)
+    assert error <= stated * (1 + 1e-9) and stated <= 1e-6 / CM
+    assert 'placed for linear interpolation within 1e-06 m' in notes[1]
+    np.testing.assert_allclose(slave, exact_cm(master), rtol=0, atol=ROUND_TRIP * RISE_CM)
+    assert len(values) < 250  # 184 measured; 502 equidistant points are needed for 1 um
+
+
+def test_cubic_xyva_is_hermite_within_the_tolerance(tmp_path, capsys):
+    text = export_table(capsys, tmp_path / 'cam.xyva', '--tolerance', 1e-6, '--format', 'xyva',
+                        '--interpolation', 'cubic')
+    notes, names, values = read_csv(text)
+    assert len(names) == 4 and 'cubic Hermite' in notes[2]
+    master, slave, velocity, _ = values.T
+    # Slopes per degree against master in degrees: the Hermite spline the PLC builds.
+    spline = CubicHermiteSpline(master, slave, velocity)
+    assert np.abs(spline(DENSE_DEG) - exact_cm(DENSE_DEG)).max() <= 1e-6 / CM
+    assert len(values) < 40
+
+
+def test_sew_is_a_count_then_master_semicolon_slave(tmp_path, capsys):
+    text = export_table(capsys, tmp_path / 'cam.txt', '--points', 10, '--format', 'sew')
+    lines = text.splitlines()
+    assert lines[0] == '11' and len(lines) == 12
+    pairs = np.array([[float(cell) for cell in line.split(';')] for line in lines[1:]])
+    np.testing.assert_array_equal(pairs[:, 0], 36.0 * np.arange(11))
+    np.testing.assert_allclose(pairs[:, 1], exact_cm(pairs[:, 0]), rtol=0,
+                               atol=ROUND_TRIP * RISE_CM)
+
+
+def test_structured_text_array_holds_the_same_points(tmp_path, capsys):
+    text = export_table(capsys, tmp_path / 'cam.st', '--points', 20, '--format', 'st')
+    _, _, csv_values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--points', 20))
+    match = re.search(r'^    CamTable : ARRAY\[0\.\.(\d+), 0\.\.1\] OF LREAL := \[\n(.*?)\];\n'
+                      r'END_VAR\n\Z', text, re.S | re.M)
+    assert match and int(match.group(1)) == 20
+    assert text.splitlines()[0].startswith('(* cam table of default.yaml')
+    numbers = [float(cell) for cell in match.group(2).replace('\n', ' ').split(',')]
+    np.testing.assert_array_equal(np.reshape(numbers, (21, 2)), csv_values)
+    for cell in match.group(2).replace(',', ' ').split():
+        assert '.' in cell and 'e' not in cell.lower()  # IEC 61131-3 LREAL literals
+
+
+def test_oscillating_follower_slave_is_in_degrees(tmp_path, capsys):
+    config = follower_config(tmp_path, 'oscillating_roller')
+    _, names, values = read_csv(export_table(capsys, tmp_path / 'osc.csv', '--points', 36,
+                                             '--derivatives', config=config))
+    assert names[1:] == ['slave_deg', 'velocity_deg_per_deg', 'acceleration_deg_per_deg2']
+    program = load_design(config).program.evaluate(np.radians(values[:, 0]))
+    np.testing.assert_allclose(values[:, 1], np.degrees(program.s), rtol=0, atol=1e-12)
+    # d(psi in deg)/d(theta in deg) = dpsi/dtheta (rad/rad): the same number.
+    np.testing.assert_allclose(values[:, 2], program.ds, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(values[:, 3], np.radians(program.d2s), rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize('config', SHIPPED_CONFIGS, ids=lambda path: path.name)
+def test_every_shipped_config_exports_a_table(config, tmp_path, capsys):
+    target = tmp_path / 'cam.csv'
+    run = run_cli(capsys, 'export', config, '-o', target, '--cam-table', '--points', 90)
+    assert run.code == (0 if load_design(config).check.ok else 1)
+    _, _, values = read_csv(target.read_text())
+    assert values.shape == (91, 2) and np.all(np.diff(values[:, 0]) > 0)
+
+
+@pytest.mark.parametrize('options, fragments', [
+    (['--points', '0'], ['--points', "'0'", 'integer >= 2']),
+    (['--points', '-4'], ['--points', 'integer >= 2']),
+    (['--tolerance', '0'], ['--tolerance', 'number > 0']),
+    (['--tolerance=-1e-6'], ['--tolerance', 'number > 0']),
+    (['--tolerance', '0.5'], ['--tolerance = 0.5', 'must be in [', '0.02]']),
+    (['--format', 'dxf'], ['--format', "invalid choice: 'dxf'"]),
+    (['--format', 'sew', '--interpolation', 'cubic'], ['--interpolation', 'sew']),
+    (['--format', 'st', '--derivatives'], ['--derivatives', 'st']),
+    (['--points', '20000', '--format', 'sew'], ['--points = 20000', 'at most 16383']),
+    (['--samples', '10'], ['--samples', 'a cam table takes --points or --tolerance']),
+    (['--points', '10', '--tolerance', '1e-6'], ['not allowed with argument']),
+])
+def test_bad_cam_table_input_exits_2_and_writes_nothing(options, fragments, tmp_path, capsys):
+    target = tmp_path / 'cam.csv'
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', target, '--cam-table', *options)
+    assert_one_error_line(run, 'export', *fragments)
+    assert not target.exists()
+
+
+@pytest.mark.parametrize('option, name', [(['--points', '10'], '--points'),
+                                          (['--format', 'st'], '--format'),
+                                          (['--derivatives'], '--derivatives'),
+                                          (['--no-end-point'], '--end-point = False')])
+def test_table_options_need_cam_table(option, name, tmp_path, capsys):
+    target = tmp_path / 'cam.csv'
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', target, *option)
+    assert_one_error_line(run, 'export', name, 'add --cam-table')
+    assert not target.exists()
+
+
+def test_unwritable_target_is_one_line(capsys):
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', '/no/such/dir/cam.csv', '--cam-table')
+    assert_one_error_line(run, 'export', 'cannot be written')
+
+
+def test_default_table_is_one_point_per_degree(tmp_path, capsys):
+    _, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv'))
+    np.testing.assert_array_equal(values[:, 0], np.arange(361.0))
+    assert math.isclose(values[:, 1].max(), RISE_CM)
