@@ -3,13 +3,18 @@ SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
+CMAKE := $(VENV)/bin/cmake
 IFACE_BUILD := $(VENV)/build/cam_ros_interfaces
 CONFIG ?= config/default.yaml
 PYTEST_ARGS ?=
 
 .PHONY: setup run test lint bench lock clean
 
-setup: $(VENV)/.cam_ros.stamp
+# Only when there is something to build: check the system first (tools/preflight.sh), so a missing
+# tool stops the set-up within seconds, before the venv is made or anything is downloaded.
+setup:
+	@$(MAKE) --no-print-directory --question $(VENV)/.cam_ros.stamp || { sh tools/preflight.sh \
+	  $(PYTHON) && $(MAKE) --no-print-directory $(VENV)/.cam_ros.stamp; }
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -18,17 +23,18 @@ $(VENV)/.deps.stamp: requirements.lock | $(PY)
 	$(PY) -m pip install --quiet -r requirements.lock
 	touch $@
 
-# The interface package is a real ament_cmake package, built with CMake straight into the venv.
+# The interface package is a real ament_cmake package, built straight into the venv with the venv's
+# CMake (the cmake wheel in requirements.lock), so no system CMake is needed.
 $(VENV)/.interfaces.stamp: $(VENV)/.deps.stamp $(wildcard cam_ros_interfaces/*.* cam_ros_interfaces/srv/*)
 	rm -rf $(IFACE_BUILD) && mkdir -p $(IFACE_BUILD)
 	prefix=$$(cd $(VENV) && pwd); export PATH="$$prefix/bin:$$PATH" AMENT_PREFIX_PATH="$$prefix"; \
-	cmake -S cam_ros_interfaces -B $(IFACE_BUILD) -DCMAKE_PREFIX_PATH="$$prefix" \
+	$(CMAKE) -S cam_ros_interfaces -B $(IFACE_BUILD) -DCMAKE_PREFIX_PATH="$$prefix" \
 	  -DCMAKE_INSTALL_PREFIX="$$prefix" -DPython3_EXECUTABLE="$$prefix/bin/python" \
 	  -DBUILD_TESTING=OFF > $(IFACE_BUILD).configure.log 2>&1 \
 	  || { cat $(IFACE_BUILD).configure.log; exit 1; }
-	cmake --build $(IFACE_BUILD) -j2 > $(IFACE_BUILD).build.log 2>&1 \
+	$(CMAKE) --build $(IFACE_BUILD) -j2 > $(IFACE_BUILD).build.log 2>&1 \
 	  || { tail -50 $(IFACE_BUILD).build.log; exit 1; }
-	cmake --install $(IFACE_BUILD) > /dev/null
+	$(CMAKE) --install $(IFACE_BUILD) > /dev/null
 	touch $@
 
 # setup.cfg puts the executables in lib/cam_ros, where `ros2 run` looks; link them into bin too.
