@@ -24,21 +24,21 @@ from __future__ import annotations
 
 import difflib
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-import yaml
-
 from .errors import InvalidParameter
+# The file side of the format (safe YAML reading, node sections) lives in params_file; these
+# names stay importable from here.
+from .params_file import (MAX_ARRAY_LENGTH, MAX_STRING_LENGTH, NODE_NAMES, flatten,  # noqa: F401
+                          read_parameters_file)
 
 LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
 FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller',
                   'oscillating_flat')
 ROTATIONS = ('clockwise', 'counterclockwise')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
-NODE_NAMES = ('cam', '/cam', '/**')
 REQUIRED = object()  # default of a parameter the file must give
 #: Largest length (m) a config may give: far beyond any cam, and small enough that products of
 #: lengths stay finite in double precision.
@@ -207,53 +207,6 @@ class CamConfig:
     parameters: Mapping[str, Any]  # the flat values as written, for reports and recordings
 
 
-def flatten(tree: Mapping[str, Any], prefix: str = '') -> dict[str, Any]:
-    """Flatten nested YAML mappings into dotted ROS parameter names."""
-    flat: dict[str, Any] = {}
-    for key, value in tree.items():
-        name = f'{prefix}{key}'
-        if isinstance(value, Mapping):
-            flat.update(flatten(value, f'{name}.'))
-        else:
-            flat[name] = value
-    return flat
-
-
-class _RosYamlLoader(yaml.SafeLoader):
-    """YAML 1.1 SafeLoader that also reads 1e3 and 6.0e0 as floats, as ROS's parser does."""
-
-
-_RosYamlLoader.add_implicit_resolver(
-    'tag:yaml.org,2002:float',
-    re.compile(r'^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$'),
-    list('-+0123456789.'))
-
-
-def read_parameters_file(path: str | Path) -> dict[str, Any]:
-    """Read a ROS 2 parameters file and return its cam node's flat parameters."""
-    try:
-        text = Path(path).read_text()
-    except OSError as err:
-        raise InvalidParameter('config', str(path), f'cannot be read ({err.strerror})') from err
-    try:
-        document = yaml.load(text, Loader=_RosYamlLoader)
-    except yaml.YAMLError as err:
-        mark = getattr(err, 'problem_mark', None)
-        where = f' at line {mark.line + 1}, column {mark.column + 1}' if mark else ''
-        problem = getattr(err, 'problem', None) or 'syntax error'
-        raise InvalidParameter('config', str(path),
-                               f'is not valid YAML{where}: {problem}') from err
-    if not isinstance(document, Mapping):
-        raise InvalidParameter('config', str(path),
-                               'must be a mapping with a node name at the top')
-    for node_name in NODE_NAMES:
-        section = document.get(node_name)
-        if isinstance(section, Mapping) and isinstance(section.get('ros__parameters'), Mapping):
-            return flatten(section['ros__parameters'])
-    raise InvalidParameter('config', str(path),
-                           f'needs one of {", ".join(NODE_NAMES)} with ros__parameters under it')
-
-
 def _check_type(spec: ParameterSpec, value: Any) -> Any:
     """Return value if it has the spec's ROS type (as rclpy judges it), else raise."""
     scalar = spec.type.removesuffix('_array')
@@ -263,6 +216,11 @@ def _check_type(spec: ParameterSpec, value: Any) -> Any:
         is_bool_for_int = python_type is int and isinstance(item, bool)
         return isinstance(item, python_type) and not is_bool_for_int
 
+    if isinstance(value, (list, tuple)) and len(value) > MAX_ARRAY_LENGTH:
+        raise InvalidParameter(spec.name, value, f'must have at most {MAX_ARRAY_LENGTH} entries')
+    if isinstance(value, str) and len(value) > MAX_STRING_LENGTH:
+        raise InvalidParameter(spec.name, value,
+                               f'must have at most {MAX_STRING_LENGTH} characters')
     if spec.type.endswith('_array'):
         if not isinstance(value, (list, tuple)) or not all(ok(item) for item in value):
             hint = ' (write 1.0, not 1)' if scalar == 'double' else ''

@@ -1,4 +1,31 @@
 """The one error root of cam_ros and its few meaningful subclasses."""
+from __future__ import annotations
+
+import reprlib
+
+#: Longest quoted value in an error message (characters), before "... (N items)".
+QUOTE_LIMIT = 100
+_REPR = reprlib.Repr()
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = QUOTE_LIMIT
+_REPR.maxstring = _REPR.maxother = _REPR.maxlong = QUOTE_LIMIT + 2
+
+
+def quote(value: object) -> str:
+    """Return repr(value), cut to QUOTE_LIMIT characters and saying how much was left out.
+
+    Only the first QUOTE_LIMIT entries or characters are ever formatted, so quoting a
+    million-entry list costs no more than quoting a short one.
+    """
+    sequence = isinstance(value, (str, list, tuple))
+    text = _REPR.repr(value[:QUOTE_LIMIT] if sequence else value)  # type: ignore[index]
+    if len(text) <= QUOTE_LIMIT:
+        return text
+    text = text[:QUOTE_LIMIT - 4]
+    if isinstance(value, str):
+        return f'{text}... ({len(value)} characters)'
+    if ', ' in text:  # end on a whole entry
+        text = text[:text.rfind(', ') + 2]
+    return f'{text}...' + (f' ({len(value)} items)' if sequence else '')
 
 
 class CamError(Exception):
@@ -6,13 +33,18 @@ class CamError(Exception):
 
 
 class InvalidParameter(CamError, ValueError):
-    """A design parameter broke a rule; names the parameter, the value and the rule."""
+    """A design parameter broke a rule; names the parameter, the value and the rule.
+
+    The message quotes at most QUOTE_LIMIT characters of the value (and of the name), so it
+    stays one short line whatever was given.
+    """
 
     def __init__(self, parameter: str, value: object, rule: str):
         self.parameter = parameter
         self.value = value
         self.rule = rule
-        super().__init__(f'{parameter} = {value!r}: {rule}')
+        name = parameter if len(parameter) <= QUOTE_LIMIT else parameter[:QUOTE_LIMIT] + '...'
+        super().__init__(f'{name} = {quote(value)}: {rule}')
 
 
 class RecordingError(CamError, OSError):
