@@ -182,6 +182,45 @@ def _ros_commands(sub: argparse._SubParsersAction) -> None:
                              'any message, did not arrive); default: wait for ever')
 
 
+def _node_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--node', default='/cam', metavar='NAME',
+                        help='the cam node (default /cam)')
+    parser.add_argument('--timeout', type=POSITIVE, default=5.0, metavar='S',
+                        help='seconds to wait for the node and its answer (default 5)')
+
+
+def _node_commands(sub: argparse._SubParsersAction) -> None:
+    parser = _command(sub, 'record', 'cam_ros.commands.control:record',
+                      'Start or stop recording', 'Through the node\'s ~/record service; prints '
+                      'the file recorded to, or the messages written.')
+    parser.add_argument('state', choices=('on', 'off'), metavar='on|off',
+                        help='on: record to a new file; off: stop, write the summary')
+    _node_options(parser)
+
+    parser = _command(sub, 'reload', 'cam_ros.commands.control:reload',
+                      'Reload the params file', 'The node re-reads the params file it was '
+                      'started with (~/reload); a file the node refuses changes nothing.')
+    _node_options(parser)
+
+    parser = _command(sub, 'param', '', 'Get, set or list node parameters',
+                      'Through the node\'s parameter services. `set` is atomic: all the '
+                      'values are taken, or none and the node\'s reason is printed.')
+    actions = parser.add_subparsers(dest='action', metavar='ACTION', required=True)
+    made = {}
+    for action, summary in (('get', 'print parameter values'),
+                            ('set', 'set parameters atomically'),
+                            ('list', 'print every parameter and its value')):
+        made[action] = actions.add_parser(action, help=summary, description=f'{summary.capitalize()}.',
+                                          epilog=EXIT_CODES,
+                                          formatter_class=argparse.RawDescriptionHelpFormatter)
+        made[action].set_defaults(handler=f'cam_ros.commands.control:param_{action}')
+        _node_options(made[action])
+    made['get'].add_argument('names', nargs='+', metavar='NAME', help='parameter names')
+    made['set'].add_argument('assignments', nargs='+', metavar='NAME VALUE',
+                             help='names and values; values as YAML, as `ros2 param set` reads '
+                                  'them (4.0 is a double, 4 an integer, [1.0, 2.0] an array)')
+
+
 def _recording_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'info', 'cam_ros.commands.recording:info', 'Describe a recording',
                       'Topics, types, counts, QoS, duration and attachments of an MCAP '
@@ -198,9 +237,21 @@ def _recording_commands(sub: argparse._SubParsersAction) -> None:
     parser.add_argument('--topics', nargs='+', default=None, metavar='TOPIC',
                         help='replay only these topics (default all)')
     parser.add_argument('--loop', action='store_true', help='repeat until Ctrl-C')
-    parser.add_argument('--wait', type=NON_NEGATIVE, default=0.0, metavar='S',
+    parser.add_argument('--wait', type=NON_NEGATIVE, default=3.0, metavar='S',
                         help='seconds to wait for every topic to have a subscriber before '
-                             'the first message (default 0)')
+                             'the first message (default 3; 0: start at once)')
+
+    parser = _command(sub, 'recover', 'cam_ros.commands.recording:recover',
+                      'Recover a killed recording',
+                      'Copy what a recording cut short holds (every complete record) into a '
+                      'finished file with summary, footer and rosbag2 metadata, which every '
+                      'reader opens; the input is left alone unless --in-place.')
+    parser.add_argument('path', metavar='FILE', help='MCAP recording')
+    target = parser.add_mutually_exclusive_group()
+    target.add_argument('-o', '--output', default=None, metavar='OUT',
+                        help='new file to write (default FILE with suffix .recovered.mcap)')
+    target.add_argument('--in-place', action='store_true',
+                        help='replace FILE, once the recovered file is complete')
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -215,6 +266,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest='command', metavar='COMMAND', required=True)
     _design_commands(sub)
     _ros_commands(sub)
+    _node_commands(sub)
     _recording_commands(sub)
     return parser
 
@@ -241,6 +293,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(done.code or 0)
     options = vars(args)
     command, target = options.pop('command'), options.pop('handler')
+    options.pop('action', None)  # the handler of `param get|set|list` is the action's
     try:
         return _handler(target)(**options)
     except CamError as err:

@@ -1,12 +1,17 @@
-"""Recording commands: summarise an MCAP recording, replay it onto the ROS graph."""
+"""Recording commands: summarise, recover and replay MCAP recordings."""
 from __future__ import annotations
 
 import signal
 import threading
+from pathlib import Path
 from typing import Sequence
 
-from cam_ros.commands.common import dump_json, end_progress, EXIT_OK, progress
+from cam_ros.commands.common import dump_json, end_progress, EXIT_OK, progress, writing
 from cam_ros.commands.ros import ros_node
+
+#: Seconds replay waits by default for every topic to have a subscriber (fresh ones need time
+#: to discover the replaying node).
+DEFAULT_WAIT_S = 3.0
 
 
 def info(path: str, json_output: bool = False) -> int:
@@ -19,7 +24,7 @@ def info(path: str, json_output: bool = False) -> int:
 
 
 def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
-           loop: bool = False, wait: float = 0.0) -> int:
+           loop: bool = False, wait: float = DEFAULT_WAIT_S) -> int:
     """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
     from cam_ros.recording import open_recording, replay as replay_recording
 
@@ -44,4 +49,17 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
             signal.signal(signal.SIGINT, previous)
             end_progress()
     print(f'published {count} messages from {path}')
+    return EXIT_OK
+
+
+def recover(path: str, output: str | None = None, in_place: bool = False) -> int:
+    """Rewrite a recording cut short by a killed recorder into a finished file."""
+    from cam_ros.recording import recover as rewrite
+
+    source = Path(path)
+    target = source if in_place else Path(output or source.with_suffix('.recovered.mcap'))
+    with writing('recover', f'recovering {source}', target):
+        result = rewrite(source, target)
+    print(f'recovered {result.message_count} messages on {result.topic_count} topics into '
+          f'{result.output} ({result.dropped_bytes} bytes of unfinished records dropped)')
     return EXIT_OK

@@ -6,6 +6,7 @@ KeyboardInterrupt) and shuts it down before returning.
 from __future__ import annotations
 
 import csv
+import difflib
 import math
 import os
 import sys
@@ -30,6 +31,7 @@ DEFAULT_TIMEOUT_S = 5.0
 UNIT_QUERY_TIMEOUT_S = 1.0  # most time spent asking the node for its follower type
 POLL_S = 0.05  # spin slice of the echo loop
 ECHO_DEPTH = 10
+SIMILAR_NAMES = 5  # most similar names an error lists
 CALL_FIELDS = ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
                'radius_of_curvature')
 
@@ -53,22 +55,42 @@ def ros_node(kind: str) -> Iterator[tuple[Node, SingleThreadedExecutor]]:
         rclpy.try_shutdown(context=context)
 
 
+def missing(node: Node, kind: str, name: str) -> str:
+    """Explain a service or topic the graph lacks: the domain searched, similar names it has.
+
+    kind is 'service' or 'topic'; the result starts with a space, to follow the error text.
+    """
+    listed = (node.get_service_names_and_types() if kind == 'service'
+              else node.get_topic_names_and_types())
+    names = [found for found, _ in listed if found != name]
+    base = name.rpartition('/')[2]
+    similar = [found for found in names if found.rpartition('/')[2] == base]
+    similar += difflib.get_close_matches(name, names, n=SIMILAR_NAMES, cutoff=0.6)
+    domain = node.context.get_domain_id()
+    shown = ', '.join(list(dict.fromkeys(similar))[:SIMILAR_NAMES]) or 'none'
+    return f' (ROS_DOMAIN_ID={domain}; similar {kind}s available: {shown})'
+
+
 def _remaining(deadline: float) -> float:
     return max(0.0, deadline - time.monotonic())
 
 
-def _request(node: Node, executor: SingleThreadedExecutor, service_type: Any, name: str,
-             request: Any, deadline: float) -> tuple[Any, str]:
-    """Call a service once before the deadline; return (response or None, why it failed)."""
+def request_once(node: Node, executor: SingleThreadedExecutor, service_type: Any, name: str,
+                 request: Any, deadline: float, timeout: float) -> tuple[Any, str]:
+    """Call a service once before the deadline; return (response or None, why it failed).
+
+    timeout is the seconds the caller allowed in all, for the message.
+    """
     client = node.create_client(service_type, name)
     try:
         if not client.wait_for_service(timeout_sec=_remaining(deadline)):
-            return None, f'service {client.srv_name} is not available'
+            return None, (f'service {client.srv_name} is not available within {timeout:g} s'
+                          + missing(node, 'service', client.srv_name))
         future = client.call_async(request)
         executor.spin_until_future_complete(future, timeout_sec=_remaining(deadline))
         if not future.done():
             client.remove_pending_request(future)
-            return None, f'service {client.srv_name} did not answer'
+            return None, f'service {client.srv_name} did not answer within {timeout:g} s'
         return future.result(), ''
     finally:
         node.destroy_client(client)
@@ -83,8 +105,9 @@ def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
     if not node_name:
         return 'm|rad'
     short = min(deadline, time.monotonic() + UNIT_QUERY_TIMEOUT_S)
-    response, _ = _request(node, executor, GetParameters, f'{node_name}/get_parameters',
-                           GetParameters.Request(names=['follower.type']), short)
+    response, _ = request_once(node, executor, GetParameters, f'{node_name}/get_parameters',
+                               GetParameters.Request(names=['follower.type']), short,
+                               UNIT_QUERY_TIMEOUT_S)
     if response is None or not response.values:
         return 'm|rad'
     return 'rad' if response.values[0].string_value.startswith('oscillating') else 'm'
@@ -106,10 +129,11 @@ def call(angles: Sequence[float], degrees: bool = False, json_output: bool = Fal
         raise InvalidParameter('ANGLE', list(angles), 'give one or more finite cam angles')
     deadline = time.monotonic() + timeout
     with ros_node('call') as (node, executor):
-        response, problem = _request(node, executor, EvaluateCam, service,
-                                     EvaluateCam.Request(angles=values.tolist()), deadline)
+        response, problem = request_once(node, executor, EvaluateCam, service,
+                                         EvaluateCam.Request(angles=values.tolist()), deadline,
+                                         timeout)
         if response is None:
-            say('call', f'{problem} within {timeout:g} s')
+            say('call', problem)
             return EXIT_FAILED
         unit = _position_unit(node, executor, service, deadline) if response.success else ''
     if not response.success:
@@ -193,7 +217,8 @@ def echo(topic: str, once: bool = False, csv_output: bool = False, count: int | 
     try:
         with ros_node('echo') as (node, executor):
             if not _subscribe(node, name, printer, deadline):
-                say('echo', f'no publisher of {name} within {timeout:g} s')
+                say('echo', f'no publisher of {name} within {timeout:g} s'
+                    + missing(node, 'topic', name))
                 return EXIT_FAILED
             while (wanted is None or printer.count < wanted) and time.monotonic() < deadline:
                 executor.spin_once(timeout_sec=min(POLL_S, _remaining(deadline)))

@@ -18,6 +18,7 @@ from mcap.writer import MCAP0_MAGIC
 from rclpy.serialization import deserialize_message
 
 from cam_ros.core.errors import RecordingError
+from cam_ros.recording.parameters import parameter_changes, ParameterChange
 from cam_ros.recording.qos import load_qos
 from cam_ros.recording.schema import import_type
 
@@ -79,7 +80,7 @@ class Recording:
         """
         wanted = None if topics is None else set(topics)
         classes: dict[str, type] = {}
-        with _open(self.path) as file:
+        with open_file(self.path) as file:
             for schema, channel, message in _iter_messages(file, self.complete):
                 if wanted is not None and channel.topic not in wanted:
                     continue
@@ -95,7 +96,7 @@ class Recording:
 def open_recording(path: Union[str, os.PathLike]) -> Recording:
     """Return what the MCAP recording at `path` holds; RecordingError if it is unreadable."""
     path = Path(path)
-    with _open(path) as file:
+    with open_file(path) as file:
         if file.read(MAGIC_SIZE) != MCAP0_MAGIC:
             raise RecordingError(f'{path} is not an MCAP file')
         finished = _has_footer(file)
@@ -114,7 +115,7 @@ def open_recording(path: Union[str, os.PathLike]) -> Recording:
         attachments: list[Attachment] = []
         metadata: list[Metadata] = []
         start, end = 2**64, 0
-        for record in _surviving_records(file):
+        for record in surviving_records(file):
             if isinstance(record, Message):
                 counts[record.channel_id] = counts.get(record.channel_id, 0) + 1
                 start, end = min(start, record.log_time), max(end, record.log_time)
@@ -142,7 +143,7 @@ def _has_footer(file: BinaryIO) -> bool:
         tail[-MAGIC_SIZE:] == MCAP0_MAGIC
 
 
-def _open(path: Path) -> BinaryIO:
+def open_file(path: Path) -> BinaryIO:
     """Open a recording for reading, as a RecordingError when impossible."""
     try:
         return open(path, 'rb')
@@ -183,7 +184,7 @@ def _iter_messages(file: BinaryIO, complete: bool) -> Iterator[tuple[Optional[Sc
         return
     schemas: dict[int, Schema] = {}
     channels: dict[int, Channel] = {}
-    for record in _surviving_records(file):
+    for record in surviving_records(file):
         if isinstance(record, Message):
             channel = channels[record.channel_id]
             yield schemas.get(channel.schema_id), channel, record
@@ -206,20 +207,24 @@ class _Prefix:
         return data
 
 
-def _surviving_records(file: BinaryIO) -> Iterator[Any]:
-    """Yield the records of a possibly truncated file, up to its last complete record."""
-    file.seek(0, os.SEEK_END)
-    size = end = file.tell()
+def complete_prefix(file: BinaryIO) -> int:
+    """Return the size of a possibly truncated file up to the end of its last complete record."""
+    size = file.seek(0, os.SEEK_END)
     offset = MAGIC_SIZE
     while True:
         file.seek(offset)
         head = file.read(_RECORD_HEAD.size)
         if len(head) < _RECORD_HEAD.size:
-            break
+            return offset
         end = offset + _RECORD_HEAD.size + _RECORD_HEAD.unpack(head)[1]
         if end > size:
-            break
+            return offset
         offset = end
+
+
+def surviving_records(file: BinaryIO) -> Iterator[Any]:
+    """Yield the records of a possibly truncated file, up to its last complete record."""
+    offset = complete_prefix(file)
     file.seek(0)
     records = StreamReader(_Prefix(file, offset)).records  # type: ignore[arg-type]
     try:
@@ -252,6 +257,9 @@ def info(path: Union[str, os.PathLike]) -> dict[str, Any]:
         'attachments': {name: len(text.encode('utf-8'))
                         for name, text in recording.attachments.items()},
         'description': dict(recording.metadata.get('cam_ros', {})),
+        'parameter_changes': [
+            {'time_ns': c.time_ns, 'node': c.node, 'name': c.name, 'kind': c.kind,
+             'old': c.old, 'new': c.new} for c in parameter_changes(recording)],
     }
 
 
@@ -294,6 +302,9 @@ def format_info(data: Mapping[str, Any]) -> str:
         ('Attachments', '\n'.join(attachments) or 'none'),
     ]
     rows += [(f'Description {key}', value) for key, value in data['description'].items()]
+    rows.append(('Parameter changes', '\n'.join(
+        f"+{(c['time_ns'] - data['start_ns']) / 1e9:.3f}s {c['node']} "
+        + ParameterChange(**c).text() for c in data['parameter_changes']) or 'none'))
     width = max(len(label) for label, _ in rows) + 2
     indent = '\n' + ' ' * width
     return '\n'.join(f'{label + ":":<{width}}{value.replace(chr(10), indent)}'
