@@ -6,9 +6,11 @@ the grid as a map and refine on the exact function, evaluated at any angles:
 
 * ``refine_extremum(func, theta, values, kind)`` -> ``(value, angle)``: the global maximum
   (kind='max') or minimum (kind='min'). Every grid local extreme whose value could reach the grid
-  extreme (it is within twice its own drop to a neighbour) is refined by a golden-section search
-  over its two neighbouring intervals, all brackets at once, to XTOL rad; the value is then exact
-  to rounding for a smooth extreme (error ~ f'' XTOL^2 / 2) and exact at a break.
+  extreme (it is within twice its own drop to a neighbour) is refined over its two neighbouring
+  intervals, all brackets at once: golden section to POLISH_WIDTH rad, then one parabolic step;
+  the value is then exact to rounding for a smooth extreme and exact at a break.
+* ``refine_extrema(func, theta, values, kinds)`` -> ``[(value, angle), ...]``: the same for
+  several functions computed together (func returns one row per function), in one search.
 * ``refine_roots(func, theta, values)`` -> sorted angles where func changes sign, each found by
   bisection to a few ulps of the angle; a sign change across a jump at a break is reported at
   the break.
@@ -35,8 +37,8 @@ Array = npt.NDArray[np.float64]
 Func = Callable[[Array], npt.ArrayLike]
 
 TWO_PI = 2.0 * math.pi
-#: Golden-section bracket width (rad) at which the search stops.
-XTOL = 1e-10
+#: Bracket width (rad) at which golden section hands over to a final parabolic step.
+POLISH_WIDTH = 1e-6
 #: Distance (in units of eps times the period or the angle range) kept from a break.
 BREAK_GAP = 8.0
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0
@@ -44,16 +46,18 @@ _EPS = float(np.finfo(float).eps)
 
 
 def _call(func: Func, angles: Array) -> Array:
-    """Return func at angles as a float array of their shape."""
-    return np.asarray(func(angles), dtype=float).reshape(angles.shape)
+    """Return func at angles as a float array (the angles' shape, or rows of it)."""
+    return np.asarray(func(angles), dtype=float)
 
 
-def _grid(theta: npt.ArrayLike, values: npt.ArrayLike) -> tuple[Array, Array]:
-    """Return theta and values as 1-D float arrays after checking they match."""
+def _grid(theta: npt.ArrayLike, values: npt.ArrayLike, rows: int = 0) -> tuple[Array, Array]:
+    """Return theta (1-D) and values (1-D, or (rows, N) when rows) after checking they match."""
     t = np.asarray(theta, dtype=float).reshape(-1)
-    v = np.asarray(values, dtype=float).reshape(-1)
-    if t.size != v.size or t.size < 3:
-        raise ValueError(f'theta ({t.size}) and values ({v.size}) must have the same size >= 3')
+    v = np.asarray(values, dtype=float)
+    v = v.reshape(rows, -1) if rows else v.reshape(-1)
+    if v.shape[-1] != t.size or t.size < 3:
+        raise ValueError(f'theta ({t.size}) and values ({v.shape[-1]}) must have the same size '
+                         '>= 3')
     if not np.all(np.diff(t) > 0.0):
         raise ValueError('theta must be strictly increasing')
     return t, v
@@ -107,37 +111,111 @@ def _gap(t: Array, period: Optional[float]) -> float:
     return BREAK_GAP * _EPS * max(scale, 1.0)
 
 
-def _golden(func: Func, a: Array, b: Array, sign: float) -> tuple[Array, Array]:
-    """Return (best sign*value, its angle) of every bracket [a, b] (maximised by golden section).
+def _golden(score: Callable[[Array], Array], a: Array, b: Array) -> tuple[Array, Array]:
+    """Return (best score, its angle) of every bracket [a, b], maximising score.
 
-    The ends count as candidates, so an extreme at a bracket end (a break) is found exactly.
+    score maps angles of shape (k, brackets) to scores of that shape. Golden section narrows
+    each bracket to POLISH_WIDTH, then one parabolic step through the best three points lands on
+    a smooth peak. The ends count as candidates, so an extreme at a bracket end (a break) is
+    found exactly.
     """
     width = float(np.max(b - a)) if a.size else 0.0
-    steps = math.ceil(math.log(XTOL / width) / math.log(_GOLDEN)) if width > XTOL else 0
-    ends = np.concatenate((a, b))
+    steps = (math.ceil(math.log(POLISH_WIDTH / width) / math.log(_GOLDEN))
+             if width > POLISH_WIDTH else 0)
+    ends = np.stack((a, b))
     c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    first = sign * _call(func, np.concatenate((c, d, ends)))
-    fc, fd, f_ends = first[:c.size], first[c.size:2 * c.size], first[2 * c.size:]
+    fc, fd, fa, fb = score(np.stack((c, d, a, b)))
+    f_ends = np.stack((fa, fb))
     for _ in range(steps):
         left = fc >= fd  # the peak is in [a, d]: d becomes the right end
-        a, b = np.where(left, a, c), np.where(left, d, b)
+        a, fa = np.where(left, a, c), np.where(left, fa, fc)
+        b, fb = np.where(left, d, b), np.where(left, fd, fb)
         fresh = np.where(left, b - _GOLDEN * (b - a), a + _GOLDEN * (b - a))
-        f_fresh = sign * _call(func, fresh)
+        f_fresh = score(fresh[np.newaxis])[0]
         c, d = np.where(left, fresh, d), np.where(left, c, fresh)
         fc, fd = np.where(left, f_fresh, fd), np.where(left, fc, f_fresh)
-    inside = fc >= fd
-    best, at = np.where(inside, fc, fd), np.where(inside, c, d)
-    count = a.size
-    angles = np.stack((at, ends[:count], ends[count:]))
-    scores = np.stack((best, f_ends[:count], f_ends[count:]))
+    left = fc >= fd  # parabola through (a, c, d) or (c, d, b) around the better inner point
+    x0, x1, x2 = np.where(left, a, c), np.where(left, c, d), np.where(left, d, b)
+    f0, f1, f2 = np.where(left, fa, fc), np.where(left, fc, fd), np.where(left, fd, fb)
+    numerator = (x1 - x0) ** 2 * (f1 - f2) - (x1 - x2) ** 2 * (f1 - f0)
+    denominator = (x1 - x0) * (f1 - f2) - (x1 - x2) * (f1 - f0)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        vertex = x1 - 0.5 * numerator / denominator
+    vertex = np.clip(np.where(np.isfinite(vertex), vertex, x1), x0, x2)
+    angles = np.concatenate((vertex[np.newaxis], x1[np.newaxis], ends))
+    scores = np.concatenate((score(vertex[np.newaxis]), f1[np.newaxis], f_ends))
     pick = np.argmax(scores, axis=0)
-    columns = np.arange(count)
+    columns = np.arange(pick.size)
     return scores[pick, columns], angles[pick, columns]
 
 
 def _wrapped(angle: float, period: Optional[float]) -> float:
     """Return angle in [0, period) when periodic, else unchanged."""
     return angle if period is None else float(np.mod(angle, period))
+
+
+def _sign(kind: str) -> float:
+    """Return +1 for 'max', -1 for 'min'."""
+    if kind not in ('max', 'min'):
+        raise ValueError(f"kind = {kind!r}: must be 'max' or 'min'")
+    return 1.0 if kind == 'max' else -1.0
+
+
+def _brackets(t: Array, g: Array, period: Optional[float]) -> tuple[Array, Array, int]:
+    """Return the brackets around every grid peak of g that could reach the top, and the top.
+
+    A local peak qualifies when its value plus twice its larger drop to a neighbour reaches the
+    grid's top (a parabola overshoots its samples by at most a quarter of that drop).
+    """
+    left_t, left_v, right_t, right_v = _neighbours(t, g, period)
+    top = int(np.argmax(g))
+    local = (g >= left_v) & (g >= right_v) & ((g > left_v) | (g > right_v))
+    drop = np.maximum(g - left_v, g - right_v)
+    chosen = local & (g + 2.0 * drop >= g[top])
+    chosen[top] = True
+    return left_t[chosen], right_t[chosen], top
+
+
+def refine_extrema(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike,
+                   kinds: Sequence[str], *, breaks: Optional[Sequence[float] | Array] = None,
+                   period: Optional[float] = TWO_PI) -> list[tuple[float, float]]:
+    """Return (value, angle) of the extreme of each of several functions, refined together.
+
+    func maps angles of shape (n,) to values of shape (m, n), one row per function; values (m, N)
+    holds them on theta; kinds[i] is 'max' or 'min' for row i. One call of func per iteration
+    serves every row, which is what makes this cheaper than m calls of refine_extremum.
+    """
+    signs = np.array([_sign(kind) for kind in kinds])
+    rows = signs.size
+    t, v = _grid(theta, values, rows)
+    cuts, gap = _extended_breaks(breaks, period), _gap(t, period)
+    lows, highs, owners, tops = [], [], [], []
+    for row in range(rows):  # one pass per function (a few), vectorised over the samples
+        low, high, top = _brackets(t, signs[row] * v[row], period)
+        a, b = _pieces(low, high, cuts, gap)
+        lows.append(a)
+        highs.append(b)
+        owners.append(np.full(a.size, row))
+        tops.append(top)
+    owner = np.concatenate(owners)
+    columns = np.arange(owner.size)
+
+    def score(points: Array) -> Array:
+        found = _call(func, points.reshape(-1)).reshape(rows, points.shape[0], -1)
+        return signs[owner] * found[owner, :, columns].T
+
+    scores, angles = _golden(score, np.concatenate(lows), np.concatenate(highs))
+    results = []
+    for row, top in enumerate(tops):
+        mine = owner == row
+        best = int(np.argmax(np.where(mine, scores, -np.inf)))
+        grid_top = signs[row] * v[row][top]
+        if scores[best] < grid_top:  # cannot happen for a func matching values; keep the grid's
+            results.append((float(v[row][top]), float(t[top])))
+        else:
+            results.append((float(signs[row] * scores[best]),
+                            _wrapped(float(angles[best]), period)))
+    return results
 
 
 def refine_extremum(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, kind: str = 'max',
@@ -148,24 +226,11 @@ def refine_extremum(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, kin
     theta, values: the dense sampling (values = func(theta)); breaks: where func or a derivative
     jumps; see the module docstring. The angle is in [0, period) when periodic.
     """
-    if kind not in ('max', 'min'):
-        raise ValueError(f"kind = {kind!r}: must be 'max' or 'min'")
-    sign = 1.0 if kind == 'max' else -1.0
-    t, v = _grid(theta, values)
-    g = sign * v
-    left_t, left_v, right_t, right_v = _neighbours(t, g, period)
-    top = int(np.argmax(g))
-    local = (g >= left_v) & (g >= right_v) & ((g > left_v) | (g > right_v))
-    drop = np.maximum(g - left_v, g - right_v)
-    chosen = local & (g + 2.0 * drop >= g[top])
-    chosen[top] = True
-    a, b = _pieces(left_t[chosen], right_t[chosen], _extended_breaks(breaks, period),
-                   _gap(t, period))
-    scores, angles = _golden(func, a, b, sign)
-    best = int(np.argmax(scores))
-    if scores[best] < g[top]:  # cannot happen for a func that matches values; keep the grid's
-        return float(v[top]), float(t[top])
-    return float(sign * scores[best]), _wrapped(float(angles[best]), period)
+    def rows(angles: Array) -> Array:
+        return _call(func, angles)[np.newaxis]
+
+    return refine_extrema(rows, theta, np.asarray(values, dtype=float)[np.newaxis], (kind,),
+                          breaks=breaks, period=period)[0]
 
 
 def refine_roots(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, *,

@@ -40,12 +40,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, Optional, Union
+from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
 from .errors import InvalidParameter
-from .extremes import refine_extremum, refine_roots
+from .extremes import refine_extrema, refine_roots
 from .program import MotionProgram
 
 Array = np.ndarray
@@ -495,13 +495,17 @@ def motion_breaks(program: MotionProgram) -> Array:
 class _Extremes:
     """Extremes and zeros of a geometry's measures, refined on the exact motion when given.
 
-    With a program, every extreme is refined from its grid bracket on the exact geometry (see
-    extremes.py); without one, the grid's values are taken as they are.
+    sampled holds the measures at the angles theta (a CamGeometry, or the raw _Profile when the
+    cam-frame coordinates are not needed). With a program, every extreme is refined from its
+    grid bracket on the exact geometry (see extremes.py); without one, the grid's values are
+    taken as they are.
     """
 
-    def __init__(self, geometry: CamGeometry, program: Optional[MotionProgram]):
-        self._geometry, self._program = geometry, program
-        theta = np.asarray(geometry.theta)
+    def __init__(self, follower: Follower, clockwise: bool, theta: Array, sampled: Any,
+                 program: Optional[MotionProgram]):
+        self._follower, self._sigma = follower, -1 if clockwise else 1
+        self._sampled, self._program = sampled, program
+        theta = np.asarray(theta)
         if program is not None:
             theta = np.mod(theta, TWO_PI)
         order = np.argsort(theta, kind='stable')
@@ -509,32 +513,38 @@ class _Extremes:
         self._order, self._theta = order[distinct], theta[order][distinct]
         self._breaks = None if program is None else motion_breaks(program)
 
-    def _function(self, measure: Measure) -> Callable[[Array], Array]:
-        """Return the exact measure as a function of cam angles."""
-        follower, program = self._geometry.follower, self._program
-        sigma = -1 if self._geometry.clockwise else 1
+    def _function(self, measures: Sequence[Measure]) -> Callable[[Array], Array]:
+        """Return the exact measures as a function of cam angles (one row per measure)."""
+        follower, sigma, program = self._follower, self._sigma, self._program
         assert program is not None
 
         def func(angles: Array) -> Array:
             motion = program.evaluate(angles)
-            return measure(follower._geometry(angles, sigma, motion.s, motion.ds, motion.d2s))
+            profile = follower._geometry(angles, sigma, motion.s, motion.ds, motion.d2s)
+            return np.array([measure(profile) for measure in measures])
         return func
 
-    def extreme(self, measure: Measure, kind: str) -> tuple[float, float]:
-        """Return (value, angle) of the largest (kind='max') or smallest ('min') measure."""
-        values = np.asarray(measure(self._geometry))[self._order]
-        if self._program is None or values.size < 3:
-            index = int(np.argmax(values) if kind == 'max' else np.argmin(values))
-            return float(values[index]), float(self._theta[index])
-        return refine_extremum(self._function(measure), self._theta, values, kind,
-                               breaks=self._breaks)
+    def extremes(self, wanted: Sequence[tuple[Measure, str]]) -> list[tuple[float, float]]:
+        """Return (value, angle) of each (measure, 'max' or 'min') wanted, refined together."""
+        measures = [measure for measure, _ in wanted]
+        values = np.array([measure(self._sampled) for measure in measures])[:, self._order]
+        if self._program is None or self._theta.size < 3:
+            found = []
+            for row, (_, kind) in enumerate(wanted):
+                index = int(np.argmax(values[row]) if kind == 'max' else np.argmin(values[row]))
+                found.append((float(values[row, index]), float(self._theta[index])))
+            return found
+        return refine_extrema(self._function(measures), self._theta, values,
+                              [kind for _, kind in wanted], breaks=self._breaks)
 
     def zeros(self, measure: Measure) -> Array:
         """Return the angles where the measure changes sign (grid: interpolated)."""
-        values = np.asarray(measure(self._geometry))[self._order]
+        values = np.asarray(measure(self._sampled))[self._order]
         if self._program is None or values.size < 3:
             return _zero_crossings(self._theta, values)
-        return refine_roots(self._function(measure), self._theta, values, breaks=self._breaks)
+        exact = self._function([measure])
+        return refine_roots(lambda angles: exact(angles)[0], self._theta, values,
+                            breaks=self._breaks)
 
 
 def _pressure_angle_of(measures: Any) -> Array:
@@ -568,11 +578,12 @@ def _undercut_measure(follower: Follower) -> Measure:
     return _surface_radius
 
 
-def _worst_curvature(extremes: _Extremes, follower: Follower) -> tuple[float, float]:
-    """Return (worst, angle): the largest pitch curvature (rollers), the smallest rho (flats)."""
+def _worst_curvature(follower: Follower) -> tuple[Measure, str]:
+    """Return what bounds the surface radius: the largest pitch curvature (rollers), the
+    smallest rho (flats)."""
     if isinstance(follower, ROLLERS):
-        return extremes.extreme(_curvature, 'max')
-    return extremes.extreme(_surface_radius, 'min')
+        return _curvature, 'max'
+    return _surface_radius, 'min'
 
 
 def _radius_margin(follower: Follower, worst: float, min_radius: float) -> float:
@@ -677,11 +688,13 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         raise InvalidParameter('program', program, 'must be a MotionProgram or None')
     angle_limit, radius_limit = _check_limits(max_pressure_angle, min_radius)
     follower = geometry.follower
-    extremes = _Extremes(geometry, program)
-    high = extremes.extreme(_pressure_angle_of, 'max')
-    low = extremes.extreme(_pressure_angle_of, 'min')
+    wanted = [(_pressure_angle_of, 'max'), (_pressure_angle_of, 'min'),
+              _worst_curvature(follower)]
+    if geometry.contact_offset is not None:
+        wanted += [(_contact_offset, 'min'), (_contact_offset, 'max')]
+    extremes = _Extremes(follower, geometry.clockwise, geometry.theta, geometry, program)
+    high, low, (worst, worst_at), *face = extremes.extremes(wanted)
     peak, peak_at = max(high, (-low[0], low[1]))
-    worst, worst_at = _worst_curvature(extremes, follower)
     if isinstance(follower, ROLLERS):
         undercut_margin = 1.0 - follower.roller_radius * worst
         smallest = 1.0 / worst - follower.roller_radius if worst > 0.0 else math.inf
@@ -691,10 +704,6 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
     at = np.asarray(geometry.theta)[np.asarray(undercut(geometry)) <= 0.0]
     if undercut_margin <= 0.0 and not at.size:
         at = np.array([worst_at])
-    face = None
-    if geometry.contact_offset is not None:
-        face = (extremes.extreme(_contact_offset, 'min')[0],
-                extremes.extreme(_contact_offset, 'max')[0])
     return GeometryCheck(
         undercut_angles=_frozen(at),
         cusp_angles=_frozen(extremes.zeros(undercut)),
@@ -707,8 +716,8 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         radius_limit=radius_limit,
         radius_ok=None if radius_limit is None
         else _radius_margin(follower, worst, radius_limit) >= 0.0,
-        face_min=None if face is None else face[0],
-        face_max=None if face is None else face[1],
+        face_min=face[0][0] if face else None,
+        face_max=face[1][0] if face else None,
         pressure_angle_high=high,
         pressure_angle_low=low,
     )

@@ -17,8 +17,8 @@ import numpy as np
 
 from .errors import InvalidParameter
 from .geometry import (
-    _abs_pressure_angle, _check_follower, _check_limits, _check_motion, _Extremes, _geometry,
-    _pressure_limit, _radius_margin, _real, _worst_curvature, Follower,
+    _abs_pressure_angle, _check_follower, _check_limits, _check_motion, _Extremes,
+    _pressure_limit, _radius_margin, _real, _worst_curvature, Follower, Measure,
 )
 from .program import MotionProgram
 
@@ -69,13 +69,19 @@ def _margins(follower: Follower, motion: tuple[np.ndarray, ...], clockwise: bool
     theta, s, ds, d2s = motion
     if follower._motion_problem(s, ds) is not None:
         return {'geometry': _INVALID}
-    extremes = _Extremes(_geometry(follower, theta, s, ds, d2s, clockwise), program)
+    wanted: dict[str, tuple[Measure, str]] = {}
+    if angle is not None:
+        wanted['pressure_angle'] = (_abs_pressure_angle, 'max')
+    if radius is not None:
+        wanted['radius'] = _worst_curvature(follower)
+    sampled = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
+    extremes = _Extremes(follower, clockwise, theta, sampled, program)
+    found = dict(zip(wanted, extremes.extremes(list(wanted.values()))))
     margins = {}
     if angle is not None:
-        margins['pressure_angle'] = angle - extremes.extreme(_abs_pressure_angle, 'max')[0]
+        margins['pressure_angle'] = angle - found['pressure_angle'][0]
     if radius is not None:
-        worst = _worst_curvature(extremes, follower)[0]
-        margins['radius'] = _radius_margin(follower, worst, radius)
+        margins['radius'] = _radius_margin(follower, found['radius'][0], radius)
     return margins
 
 
