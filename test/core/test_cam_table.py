@@ -99,6 +99,17 @@ def test_tolerance_table_stays_within_tolerance(interpolation, tolerance):
     assert np.all(np.diff(table.master_deg) > 0)
 
 
+def test_cubic_table_meets_the_tolerance_where_the_slope_jumps():
+    # Constant velocity after a dwell: ds/dtheta jumps at 90 and 180 deg, and a point carries
+    # one slope (the next segment's), so the interval before each joint must be tiny.
+    jumps = program(('dwell', 0, 90, 0, 0), ('constant_velocity', 90, 180, 0, RISE),
+                    ('dwell', 180, 240, RISE, RISE), ('cycloidal', 240, 360, RISE, 0))
+    table = tolerance_table(jumps, MICRON, 'cubic')
+    exact = jumps.evaluate(DENSE).s
+    assert table.max_error <= MICRON and dense_error(table, exact) <= MICRON
+    assert table.slope[np.isclose(table.master_deg, 90.0, rtol=0, atol=1e-12)] == RISE / deg(90)
+
+
 def test_each_placed_interval_is_as_long_as_the_tolerance_allows():
     # Greedy placement: stretching any interval that does not end at a segment boundary by
     # 0.1 % of its length breaks the tolerance (checked by brute force on the stretched chord).
