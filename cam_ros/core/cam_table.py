@@ -99,7 +99,7 @@ def equidistant_table(program: MotionProgram, points: int,
 
 def tolerance_table(program: MotionProgram, tolerance: float,
                     interpolation: str = 'linear') -> CamTable:
-    """Return the table with the fewest knots (greedy) whose interpolation stays within tolerance."""
+    """Return the table of fewest knots (greedy) whose interpolation stays within tolerance."""
     _check_interpolation(interpolation)
     travel = stroke(program)
     low = MIN_RELATIVE_TOLERANCE * travel
