@@ -28,6 +28,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from .contact import STEEL_MODULUS, STEEL_POISSON
+from .dynamics import DynamicsConfig, parse_dynamics
 from .errors import InvalidParameter
 # The file side of the format (safe YAML reading, node sections) lives in params_file; these
 # names stay importable from here.
@@ -121,6 +123,35 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='deg', minimum=1.0, maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
        'of the cam surface where convex', unit='length_unit', minimum=0.0),
+    _p('limits.contact_stress', 'double', 0.0, 'Allowable Hertz peak contact pressure p0 '
+       '(0: not checked)', unit='Pa', minimum=0.0, maximum=1e12),
+    _p('dynamics.mass', 'double', 0.0, 'Moving mass of a translating follower train (0: no '
+       'dynamics)', unit='kg', minimum=0.0, maximum=1e6),
+    _p('dynamics.arm_inertia', 'double', 0.0, 'Inertia of an oscillating arm about its pivot '
+       '(0: no dynamics)', unit='kg m^2', minimum=0.0, maximum=1e6),
+    _p('dynamics.spring_rate', 'double', 0.0, 'Return spring rate (N m/rad for oscillating '
+       'followers)', unit='N/m|N m/rad', minimum=0.0, maximum=1e12),
+    _p('dynamics.spring_preload', 'double', 0.0, 'Spring force at s = 0 (N m for oscillating '
+       'followers)', unit='N|N m', minimum=0.0, maximum=1e9),
+    _p('dynamics.damping_ratio', 'double', 0.0, 'Damping as a fraction of critical, '
+       '2 sqrt(k m)', minimum=0.0, maximum=100.0),
+    _p('dynamics.external_force', 'double', 0.0, 'Constant load on the follower, positive '
+       'toward the cam (N m for oscillating followers)', unit='N|N m', minimum=-1e9,
+       maximum=1e9),
+    _p('dynamics.jump_safety_factor', 'double', 1.5, 'Factor on the separating force for the '
+       'needed spring preload', minimum=1.0, maximum=100.0),
+    _p('contact.face_width', 'double', 0.0, 'Contact length along the camshaft (the narrower '
+       'face); needed with dynamics', unit='length_unit', minimum=0.0),
+    _p('contact.cam_modulus', 'double', STEEL_MODULUS, 'Young\'s modulus of the cam', unit='Pa',
+       minimum=0.0, maximum=1e13),
+    _p('contact.cam_poisson', 'double', STEEL_POISSON, 'Poisson\'s ratio of the cam, < 0.5',
+       minimum=0.0, maximum=0.5),
+    _p('contact.follower_modulus', 'double', STEEL_MODULUS, 'Young\'s modulus of the roller '
+       'or face', unit='Pa', minimum=0.0, maximum=1e13),
+    _p('contact.follower_poisson', 'double', STEEL_POISSON, 'Poisson\'s ratio of the roller or '
+       'face, < 0.5', minimum=0.0, maximum=0.5),
+    _p('contact.friction', 'double', 0.0, 'Sliding friction coefficient of a flat face',
+       minimum=0.0, maximum=2.0),
     _p('output.sample_count', 'integer', 360, 'Samples per revolution on the profile topics',
        minimum=8, maximum=100000),
     _p('output.state_rate_hz', 'double', 50.0, 'Rate of the live state topic', unit='Hz',
@@ -204,6 +235,7 @@ class CamConfig:
     recording_enabled: bool
     recording_directory: str
     recording_compression: str
+    dynamics: DynamicsConfig | None  # None: the file gives no dynamics.mass / arm_inertia
     parameters: Mapping[str, Any]  # the flat values as written, for reports and recordings
 
 
@@ -317,6 +349,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         recording_enabled=values['recording.enabled'],
         recording_directory=values['recording.directory'],
         recording_compression=values['recording.compression'],
+        dynamics=parse_dynamics(values, metre, values['follower.type']),
         parameters=dict(values),
     )
 

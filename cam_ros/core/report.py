@@ -14,6 +14,7 @@ from typing import Optional
 import numpy as np
 
 from .design import CHECK_SAMPLES, CamDesign
+from .dynamics_report import DynamicsReport, dynamics_report
 from .geometry import TranslatingRoller
 from .program import Discontinuity, SegmentSummary
 from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
@@ -61,11 +62,12 @@ class DesignReport:
     continuity: tuple[Discontinuity, ...]
     quick_estimate: Optional[QuickEstimate]
     warnings: tuple[str, ...]
+    dynamics: Optional[DynamicsReport] = None  # None: the design has no dynamics
 
     @property
     def ok(self) -> bool:
-        """Return True when the design meets its limits and is not undercut."""
-        return self.design.check.ok
+        """Return True when the design meets its limits, is not undercut and does not jump."""
+        return self.design.check.ok and (self.dynamics is None or self.dynamics.ok)
 
 
 def position_unit(design: CamDesign) -> str:
@@ -118,4 +120,5 @@ def design_report(design: CamDesign) -> DesignReport:
         continuity=design.program.continuity_report(),
         quick_estimate=quick_estimate(design),
         warnings=tuple(design.warnings()),
+        dynamics=dynamics_report(design),
     )
