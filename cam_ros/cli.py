@@ -18,8 +18,10 @@ import textwrap
 from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, NoReturn, Sequence
 
+from cam_ros.cam_table_formats import FORMATS as TABLE_FORMATS
 from cam_ros.commands.common import EXIT_INVALID
 from cam_ros.core import CamError
+from cam_ros.core.cam_table import INTERPOLATIONS
 
 EXIT_CODES = '''exit codes:
   0  ok
@@ -138,10 +140,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                          help='fewest points whose interpolation stays within T of the exact '
                               'law (m, or rad for oscillating followers)')
     table.add_argument('--format', dest='table_format', default=None,
-                       choices=('csv', 'sew', 'xyva', 'st'),
+                       choices=tuple(TABLE_FORMATS),
                        help='csv (default), sew (MOVI-C point list), xyva (CODESYS '
                             'SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL)')
-    table.add_argument('--interpolation', default=None, choices=('linear', 'cubic'),
+    table.add_argument('--interpolation', default=None, choices=INTERPOLATIONS,
                        help='what the target does between points (default linear); cubic: '
                             'Hermite with the velocity column as slopes (csv, xyva)')
     table.add_argument('--end-point', action=argparse.BooleanOptionalAction, default=None,
