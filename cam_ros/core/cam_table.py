@@ -9,9 +9,9 @@ law s is found on every interval by dense sampling, refined by Newton steps on e
 (an extreme of the error e = s - p lies where the slopes agree).
 
 - `equidistant_table`: n equal steps of 360/n deg.
-- `tolerance_table`: knots placed greedily: from each knot the next is the farthest angle such
-  that the interval, and every shorter one from the same knot, stays within the tolerance
-  (bisection in rounds of candidates, each candidate checked exactly as above).  Every boundary
+- `tolerance_table`: knots placed greedily: from each knot the next is as far as the interval
+  stays within the tolerance, searched in rounds of CANDIDATES ends (the first end over the
+  tolerance and the one before it bracket the next round), each checked as above.  Every boundary
   of the program's segments, where derivatives may jump, is a knot.  Greedy placement from a
   fixed start gives the fewest knots whenever an interval within the tolerance implies that its
   sub-intervals are too (true where s is convex or concave between the knots, as on a law's
