@@ -18,8 +18,7 @@ import rclpy
 from builtin_interfaces.msg import Duration
 from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Point, Vector3Stamped
-from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
-                                ParameterType, SetParametersResult)
+from rcl_interfaces.msg import SetParametersResult
 from rclpy._rclpy_pybind11 import RCLError
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
@@ -31,51 +30,21 @@ from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
-from cam_ros.core import CamDesign, CamError, build_design, check_angles, parse_parameters
-from cam_ros.core.config import (PARAMETERS, REQUIRED, SPECS, ParameterSpec,
-                                 read_parameters_file)
+from cam_ros.cli import one_line
+from cam_ros.commands.common import EXIT_INVALID
+from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, check_angles,
+                          parse_parameters)
+from cam_ros.core.config import PARAMETERS, SPECS
+from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
+                                     parameter_sources, ParameterSources, parse_command_line,
+                                     plain, USAGE)
 from cam_ros.paths import default_config_path
 from cam_ros.recording import PARAMETER_EVENTS, Recorder, TopicSpec
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
 STATE_QOS = QoSProfile(depth=10)
-ROS_TYPES = {
-    'double': ParameterType.PARAMETER_DOUBLE, 'integer': ParameterType.PARAMETER_INTEGER,
-    'string': ParameterType.PARAMETER_STRING, 'bool': ParameterType.PARAMETER_BOOL,
-    'double_array': ParameterType.PARAMETER_DOUBLE_ARRAY,
-    'integer_array': ParameterType.PARAMETER_INTEGER_ARRAY,
-    'string_array': ParameterType.PARAMETER_STRING_ARRAY,
-}
 CAM_FRAME = 'cam'
-
-
-def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
-    """Turn a config-format parameter spec into a ROS parameter descriptor."""
-    unit = f' [{spec.unit}]' if spec.unit else ''
-    choices = f' One of: {", ".join(spec.choices)}.' if spec.choices else ''
-    result = ParameterDescriptor(name=spec.name, type=ROS_TYPES[spec.type],
-                                 description=f'{spec.description}{unit}.{choices}',
-                                 read_only=spec.read_only)
-    if spec.minimum is not None and spec.maximum is not None:
-        if spec.type == 'double':
-            result.floating_point_range = [FloatingPointRange(
-                from_value=float(spec.minimum), to_value=float(spec.maximum))]
-        elif spec.type == 'integer':
-            result.integer_range = [IntegerRange(
-                from_value=int(spec.minimum), to_value=int(spec.maximum), step=1)]
-    return result
-
-
-def declared_value(spec: ParameterSpec) -> Any:
-    """Return a spec's default, or just its ROS type where it has none or an empty list.
-
-    rclpy takes an empty list for a byte array; declared by type, the parameter stays unset
-    (the core's default) until a file or an update gives it a value.
-    """
-    if spec.default is REQUIRED or spec.default == []:
-        return Parameter.Type(ROS_TYPES[spec.type])
-    return spec.default
 
 
 def as_float64(values: np.ndarray) -> array.array:
@@ -92,11 +61,19 @@ def duration(seconds: float) -> Duration:
 class CamNode(Node):
     """Holds one cam design and serves it: evaluate service, latched profile, live state."""
 
-    def __init__(self, params_file: Path | None = None, **kwargs: Any):
-        super().__init__('cam', **kwargs)
-        self._params_file = params_file
-        for spec in PARAMETERS:
-            self.declare_parameter(spec.name, declared_value(spec), descriptor(spec))
+    def __init__(self, params: ParameterSources | Path | None = None, **kwargs: Any):
+        """Check the parameters of params (a params file, default config/default.yaml), then serve.
+
+        The whole design is checked before a parameter is declared (raises InvalidParameter).
+        """
+        self._sources = parameter_sources(params, default_config_path())
+        values = self._sources.read()
+        build_design(parse_parameters(values))
+        super().__init__('cam', allow_undeclared_parameters=True, **kwargs)
+        self._params_file: Path | None = self._sources.files[-1]
+        for spec in PARAMETERS:  # undeclared names reach _validate_update, which names them
+            self.declare_parameter(spec.name, declared_value(values.get(spec.name)),
+                                   descriptor(spec))
         self.design: CamDesign = build_design(parse_parameters(self._current_values()))
         self._pending: CamDesign | None = None
         self.add_on_set_parameters_callback(self._validate_update)
@@ -125,16 +102,26 @@ class CamNode(Node):
             f'(latched), joint_states, state_extras ({self.design.config.state_rate_hz:g} Hz)')
 
     # Parameters ---------------------------------------------------------------------------
-    def _current_values(self, updates: Sequence[Parameter] = ()) -> dict[str, Any]:
-        """Return the flat cam parameter values, with the updates applied, for the core."""
-        values = {spec.name: self.get_parameter_or(spec.name).value for spec in PARAMETERS}
-        values.update((param.name, param.value) for param in updates if param.name in SPECS)
-        return {name: list(value) if isinstance(value, (array.array, tuple)) else value
-                for name, value in values.items() if value is not None}
+    def _current_values(self) -> dict[str, Any]:
+        """Return the flat cam parameter values that are set, for the core."""
+        values = {spec.name: plain(self.get_parameter_or(spec.name).value) for spec in PARAMETERS}
+        return {name: value for name, value in values.items() if value is not None}
 
     def _validate_update(self, updates: list[Parameter]) -> SetParametersResult:
+        """Check an update as the CLI checks a file: names, types, ranges, the whole design."""
+        cam = [param for param in updates
+               if param.name in SPECS or not self.has_parameter(param.name)]
+        self._pending = None
+        if not cam:  # ROS's own parameters (use_sim_time)
+            return SetParametersResult(successful=True)
         try:
-            self._pending = build_design(parse_parameters(self._current_values(updates)))
+            values = self._current_values()
+            for param in cam:
+                if param.type_ == Parameter.Type.NOT_SET and param.name in SPECS:
+                    raise InvalidParameter(param.name, None, 'cannot be undeclared (cam '
+                                           'parameters stay declared; set a value instead)')
+                values[param.name] = plain(param.value)
+            self._pending = build_design(parse_parameters(values))
         except CamError as err:
             self._pending = None
             return SetParametersResult(successful=False, reason=str(err))
@@ -180,19 +167,17 @@ class CamNode(Node):
         return response
 
     def _reload(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
-        path = self._params_file or default_config_path()
+        """Re-read the start-up params files and -p overrides; keep serving if they are bad."""
         try:
-            values = read_parameters_file(path)
+            values = self._sources.read()
+            parse_parameters(values)  # names and types first: only cam parameters are set
         except CamError as err:
-            response.success, response.message = False, str(err)
+            response.success, response.message = False, one_line(str(err))
             return response
-        defaults = [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]), spec.default)
-                    for spec in PARAMETERS
-                    if spec.name not in values and spec.default is not REQUIRED]
-        result = self.set_parameters_atomically(  # the file's values, defaults for the rest
-            [Parameter(name, value=value) for name, value in values.items()] + defaults)
+        result = self.set_parameters_atomically(file_parameters(values))
         response.success = result.successful
-        response.message = f'reloaded {path}' if result.successful else result.reason
+        files = ', '.join(map(str, self._sources.files))
+        response.message = f'reloaded {files}' if result.successful else result.reason
         return response
 
     def _record(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
@@ -312,24 +297,38 @@ def params_file_from(args: Sequence[str]) -> Path | None:
     return None
 
 
+def _invalid(message: str) -> int:
+    """Print one line 'cam_node: message' on stderr and return the exit code of bad input."""
+    print(f'cam_node: {one_line(message)}', file=sys.stderr)
+    return EXIT_INVALID
+
+
 def main(args: Sequence[str] | None = None) -> int:
-    """Run cam_node until Ctrl-C or SIGTERM; exit 2 when the design is invalid."""
+    """Run cam_node until Ctrl-C or SIGTERM; exit 2 with one line on invalid input."""
     argv = list(sys.argv if args is None else args)
-    params_file = params_file_from(argv)
-    if params_file is None:
-        params_file = default_config_path()
-        argv += ['--ros-args', '--params-file', str(params_file)]
-    rclpy.init(args=argv)
+    try:
+        command = parse_command_line(argv, default_config_path())
+    except CamError as err:
+        return _invalid(str(err))
+    if {'-h', '--help'} & set(command.user_args):
+        print(USAGE, end='')
+        return 0
+    if command.user_args:
+        return _invalid(f'unrecognized arguments: {" ".join(command.user_args)} '
+                        '(see cam_node --help)')
+    try:
+        rclpy.init(args=command.ros_args)
+    except (RCLError, RuntimeError, ValueError) as err:  # a bad remapping or log argument
+        return _invalid(f'invalid ROS arguments: {err}')
     executor = SingleThreadedExecutor()  # made first, so a signal never lands inside its set-up
     node = None
     code = 0
     try:
-        node = CamNode(params_file)
+        node = CamNode(command.sources)
         executor.add_node(node)
         executor.spin()
     except CamError as err:
-        print(f'cam_node: invalid design in {params_file}: {err}', file=sys.stderr)
-        code = 2
+        code = _invalid(str(err))
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except RCLError:

@@ -1,0 +1,192 @@
+"""cam_node's parameters: where they come from, and how they are declared to ROS.
+
+The node reads its parameters itself, with the core's code, before it declares any: every
+``--params-file`` in order, then every ``-p NAME:=VALUE``, as rcl would apply them. rclpy is
+then started without them, so a params file or override gets exactly the one-line error that
+``cam_ros report`` gives, and rclpy never sees a file the core has not accepted.
+
+Parameters are declared with dynamic typing: the node's own check (the same as the CLI's) judges
+types, so a wrong type is refused with a reason that names the parameter.
+"""
+from __future__ import annotations
+
+import array
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
+                                ParameterType)
+from rclpy.parameter import Parameter
+
+from cam_ros.core import InvalidParameter
+from cam_ros.core.config import PARAMETERS, REQUIRED, ParameterSpec
+from cam_ros.core.params_file import parse_yaml, read_parameters_file
+
+NODE_NAME = 'cam'
+ROS_TYPES = {
+    'double': ParameterType.PARAMETER_DOUBLE, 'integer': ParameterType.PARAMETER_INTEGER,
+    'string': ParameterType.PARAMETER_STRING, 'bool': ParameterType.PARAMETER_BOOL,
+    'double_array': ParameterType.PARAMETER_DOUBLE_ARRAY,
+    'integer_array': ParameterType.PARAMETER_INTEGER_ARRAY,
+    'string_array': ParameterType.PARAMETER_STRING_ARRAY,
+}
+#: ROS arguments that take a value (rcl's list); the parameter ones are read here.
+VALUED_ROS_FLAGS = {'-r', '--remap', '-p', '--param', '--params-file', '-e', '--enclave',
+                    '--log-level', '--log-config-file', '--log-file-name'}
+PARAMETER_FLAGS = {'-p', '--param', '--params-file'}
+
+
+def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
+    """Turn a config-format parameter spec into a (dynamically typed) ROS descriptor."""
+    unit = f' [{spec.unit}]' if spec.unit else ''
+    choices = f' One of: {", ".join(spec.choices)}.' if spec.choices else ''
+    result = ParameterDescriptor(name=spec.name, type=ROS_TYPES[spec.type],
+                                 description=f'{spec.description}{unit}. Type: {spec.type}.'
+                                             f'{choices}',
+                                 read_only=spec.read_only, dynamic_typing=True)
+    if spec.minimum is not None and spec.maximum is not None:
+        if spec.type == 'double':
+            result.floating_point_range = [FloatingPointRange(
+                from_value=float(spec.minimum), to_value=float(spec.maximum))]
+        elif spec.type == 'integer':
+            result.integer_range = [IntegerRange(
+                from_value=int(spec.minimum), to_value=int(spec.maximum), step=1)]
+    return result
+
+
+def declared_value(value: Any) -> Any:
+    """Return the value to declare: None (unset, the core's default) for an absent or empty list.
+
+    rclpy would take an empty list for a byte array.
+    """
+    return None if value is None or (isinstance(value, list) and not value) else value
+
+
+def plain(value: Any) -> Any:
+    """Return a ROS parameter value as the core takes it (arrays as lists)."""
+    return list(value) if isinstance(value, (list, tuple, array.array)) else value
+
+
+def file_parameters(values: Mapping[str, Any]) -> list[Parameter]:
+    """Return every cam parameter typed as declared: the values given, defaults for the rest."""
+    return [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]),
+                      values.get(spec.name, spec.default))
+            for spec in PARAMETERS if spec.name in values or spec.default is not REQUIRED]
+
+
+def split_rule(rule: str) -> tuple[str, str, str]:
+    """Split a ROS rule '[node:]name:=value' into node ('' if none), name and value."""
+    left, assign, value = rule.partition(':=')
+    node, _, name = left.rpartition(':')
+    return (node, name, value) if assign else ('', '', rule)
+
+
+@dataclass(frozen=True)
+class ParameterSources:
+    """Where cam_node's parameters come from: params files in order, then -p overrides."""
+
+    files: tuple[Path, ...]
+    overrides: tuple[str, ...] = ()  # NAME:=VALUE, as given after -p
+    node_name: str = NODE_NAME
+    namespace: str = '/'
+
+    @property
+    def full_name(self) -> str:
+        """Return the node's fully qualified name."""
+        return f'{self.namespace.rstrip("/")}/{self.node_name}'
+
+    def read(self) -> dict[str, Any]:
+        """Read every source into one flat mapping of parameter values (raises InvalidParameter).
+
+        A file's sections for ``/**``, the node name and its full name count, in file order.
+        """
+        names = tuple(dict.fromkeys((self.node_name, f'/{self.node_name}', self.full_name,
+                                     '/**')))
+        values: dict[str, Any] = {}
+        for path in self.files:
+            values.update(read_parameters_file(path, names))
+        for override in self.overrides:
+            node, name, text = split_rule(override)
+            if not name:
+                raise InvalidParameter('-p', override, 'must be NAME:=VALUE')
+            if node in ('', NODE_NAME, self.node_name, self.full_name):
+                values[name] = parse_yaml(text, name, text)
+        return values
+
+
+@dataclass(frozen=True)
+class CommandLine:
+    """cam_node's command line, split: parameter sources, rclpy's arguments, the user's."""
+
+    sources: ParameterSources
+    ros_args: list[str]
+    user_args: list[str]
+
+
+def parse_command_line(argv: Sequence[str], default_file: Path) -> CommandLine:
+    """Split argv (with the program name) as rcl would; no params file means default_file."""
+    files: list[Path] = []
+    overrides: list[str] = []
+    node_name, namespace = NODE_NAME, '/'
+    ros_args: list[str] = []
+    user_args: list[str] = []
+    inside, position = False, 1
+    while position < len(argv):
+        flag = argv[position]
+        position += 1
+        if flag == '--ros-args':
+            inside = True
+        elif inside and flag == '--':
+            inside = False
+        elif not inside:
+            user_args.append(flag)
+        elif flag not in VALUED_ROS_FLAGS:
+            ros_args.append(flag)
+        elif position == len(argv):
+            raise InvalidParameter(flag, None, 'needs a value after it')
+        else:
+            value = argv[position]
+            position += 1
+            if flag == '--params-file':
+                files.append(Path(value))
+            elif flag in PARAMETER_FLAGS:
+                overrides.append(value)
+            else:
+                ros_args += [flag, value]
+                node, key, target = split_rule(value)
+                if flag in ('-r', '--remap') and node in ('', NODE_NAME):
+                    node_name = target if key in ('__node', '__name') else node_name
+                    namespace = target if key == '__ns' else namespace
+    sources = ParameterSources(tuple(files) or (default_file,), tuple(overrides), node_name,
+                               namespace)
+    return CommandLine(sources, [argv[0], '--ros-args', *ros_args] if ros_args else [argv[0]],
+                       user_args)
+
+
+def parameter_sources(params: ParameterSources | Path | str | None,
+                      default_file: Path) -> ParameterSources:
+    """Return params as ParameterSources: a params file alone, or default_file if None."""
+    if isinstance(params, ParameterSources):
+        return params
+    return ParameterSources((Path(params) if params is not None else default_file,))
+
+
+USAGE = '''\
+usage: cam_node [-h] [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [ROS_ARG]...]
+
+Serve one cam design to ROS 2: the ~/evaluate service, the latched ~/profile,
+~/pressure_angle and ~/markers, the live ~/joint_states and ~/state_extras, and the
+~/reload and ~/record services.
+
+The parameters come from the params files, in order (config/default.yaml if none is
+given), then from the -p overrides. They are checked exactly as `cam_ros report` checks
+a file, before the node starts. Other ROS arguments (remapping, logging) go to rclpy.
+
+options:
+  -h, --help  show this help and exit
+
+exit codes:
+  0  stopped by Ctrl-C or SIGTERM
+  2  invalid params file, -p override or argument: one line "cam_node: <message>"
+'''
