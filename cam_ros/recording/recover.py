@@ -42,7 +42,9 @@ def recover(path: Union[str, os.PathLike], output: Union[str, os.PathLike]) -> R
     with open_file(source) as file:
         if file.read(MAGIC_SIZE) != MCAP0_MAGIC:
             raise RecordingError(f'{source} is not an MCAP file')
-        dropped = file.seek(0, os.SEEK_END) - complete_prefix(file) - MAGIC_SIZE
+        file.seek(complete_prefix(file))
+        tail = file.read()
+        dropped = 0 if tail == MCAP0_MAGIC else len(tail)  # a finished file ends in the magic
         folder = target.resolve().parent
         try:
             handle, temporary = tempfile.mkstemp(suffix='.mcap', prefix='.recover-', dir=folder)
@@ -56,7 +58,7 @@ def recover(path: Union[str, os.PathLike], output: Union[str, os.PathLike]) -> R
         except BaseException:
             Path(temporary).unlink(missing_ok=True)
             raise
-    return Recovery(target, messages, topics, max(0, dropped))
+    return Recovery(target, messages, topics, dropped)
 
 
 def _copy(file: BinaryIO, out: BinaryIO, name: str) -> tuple[int, int]:

@@ -2,7 +2,10 @@
 
 from collections.abc import Callable
 from dataclasses import dataclass
+import json
 from pathlib import Path
+import signal
+import subprocess
 import time
 
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -22,6 +25,12 @@ STREAM_QOS = QoSProfile(depth=10)
 LATCHED_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                          reliability=ReliabilityPolicy.RELIABLE)
 CONFIG_TEXT = 'law: cycloidal\nlift_m: 0.02  # metres\n'
+CHILD = Path(__file__).with_name('recorder_child.py')
+#: Seconds the recording child may take to start, record or finish.
+CHILD_TIMEOUT = 15.0
+CHUNK_SIZE = 512
+#: Messages the child records before it is killed.
+KILL_AFTER = 60
 
 
 def wait_until(predicate: Callable[[], bool], timeout: float = GRAPH_TIMEOUT) -> bool:
@@ -66,3 +75,26 @@ class ReferenceRecording:
     graph_hashes: dict[str, str]
     opened_ns: int
     parameter_name: str
+
+
+def start_child(python: str, env: dict[str, str], *args: object) -> subprocess.Popen:
+    """Start the recording child process (recorder_child.py) with arguments."""
+    return subprocess.Popen([python, str(CHILD), *map(str, args)], env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+def record_then_kill(python: str, env: dict[str, str], path: Path) -> int:
+    """Record in a child process, SIGKILL it after KILL_AFTER messages; return the count."""
+    child = start_child(python, env, path, CHUNK_SIZE)
+    try:
+        written = 0
+        for line in child.stdout or ():
+            written = json.loads(line)['written']
+            if written >= KILL_AFTER:
+                break
+        child.send_signal(signal.SIGKILL)
+        assert child.wait(CHILD_TIMEOUT) == -signal.SIGKILL
+    finally:
+        child.kill()
+        child.communicate(timeout=CHILD_TIMEOUT)
+    return written

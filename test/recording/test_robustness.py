@@ -2,28 +2,17 @@
 
 import json
 from pathlib import Path
-import signal
-import subprocess
 
 from cam_ros.recording import open_recording
 
-CHILD = Path(__file__).with_name('recorder_child.py')
-#: Seconds the child may take to start, record or finish.
-CHILD_TIMEOUT = 15.0
-CHUNK_SIZE = 512
-#: Messages recorded before the child is killed.
-KILL_AFTER = 60
+from .recording_support import (CHILD_TIMEOUT, CHUNK_SIZE, KILL_AFTER, record_then_kill,
+                                start_child)
+
 #: Bytes of one recorded message record besides its data (opcode, length, channel id,
 #: sequence, log and publish time), per the MCAP specification.
 MESSAGE_RECORD_OVERHEAD = 1 + 8 + 2 + 4 + 8 + 8
 #: Bytes the file may still grow once the file-size limit is set.
 FSIZE_HEADROOM = 3000
-
-
-def start_child(python, env, *args) -> subprocess.Popen:
-    """Start the recording child process."""
-    return subprocess.Popen([python, str(CHILD), *map(str, args)], env=env, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
 
 
 def positions(path: Path) -> list[float]:
@@ -33,18 +22,7 @@ def positions(path: Path) -> list[float]:
 
 def test_sigkill_loses_at_most_the_open_chunk(python, child_env, tmp_path):
     path = tmp_path / 'killed.mcap'
-    child = start_child(python, child_env, path, CHUNK_SIZE)
-    try:
-        written = 0
-        for line in child.stdout:
-            written = json.loads(line)['written']
-            if written >= KILL_AFTER:
-                break
-        child.send_signal(signal.SIGKILL)
-        assert child.wait(CHILD_TIMEOUT) == -signal.SIGKILL
-    finally:
-        child.kill()
-        child.communicate(timeout=CHILD_TIMEOUT)
+    written = record_then_kill(python, child_env, path)
     assert written >= KILL_AFTER
     recording = open_recording(path)
     assert not recording.complete
