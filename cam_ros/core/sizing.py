@@ -23,7 +23,8 @@ from .geometry import (
 from .program import MotionProgram
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
-SIZING_TOLERANCE = 1e-12  # m: the returned radius is within this (plus 4 ulp) of the exact one
+SIZING_TOLERANCE = 1e-16  # m: the returned radius is within this (plus 4 ulp) of the exact one
+SAFETY_ULPS = 4  # ulps added on the safe side of the boundary for the margins' rounding
 SIZING_GRID = 256  # candidate radii scanned for the first feasible one (bounded followers)
 DOUBLINGS = 40  # unbounded followers: scan Rb_min + scale * 2**k for k in [-DOUBLINGS, DOUBLINGS]
 BIG_CAM_SIZE_INDEX = 5.0  # R/h above this is a big cam (seed 002)
@@ -99,7 +100,8 @@ def _boundary(margins: Margins, bad: float, good: float, tol: float) -> tuple[fl
     """Return the radius nearest the boundary between bad and good where the limits hold.
 
     The limits fail at bad and hold at good (exact margins); the result lies on good's side,
-    within tol (+ 4 ulp) of the boundary, and the limit that fails just beyond it is named.
+    within tol (+ 4 ulp) of the boundary and SAFETY_ULPS past the first radius whose computed
+    margins hold; the limit that fails just beyond it is named.
     """
     from scipy.optimize import brentq  # here: scipy costs the node 0.5 s start-up
 
@@ -114,8 +116,9 @@ def _boundary(margins: Margins, bad: float, good: float, tol: float) -> tuple[fl
         trial = root + toward * shift * step
         if (trial - good) * toward >= 0.0:
             break
-        if worst(trial) >= 0.0:
-            found = trial
+        if worst(trial) >= 0.0:  # then SAFETY_ULPS more, for the rounding of the margins
+            found = trial + toward * SAFETY_ULPS * math.ulp(trial)
+            found = found if (found - good) * toward < 0.0 else good
             break
     beyond = margins(found - toward * 2.0 * step, True)
     return found, min(beyond, key=beyond.__getitem__)

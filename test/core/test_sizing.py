@@ -9,6 +9,8 @@ import math
 
 from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
+from cam_ros.core.laws import make_law
+from cam_ros.core.program import MotionProgram, Segment
 from cam_ros.core.geometry import (
     cam_geometry, check_geometry, OscillatingFlat, OscillatingRoller, TranslatingFlat,
     TranslatingRoller,
@@ -18,6 +20,7 @@ from cam_ros.core.sizing import (
 )
 import numpy as np
 import pytest
+from scipy.optimize import minimize_scalar
 
 BELOW = 1e-6  # relative step below the returned radius at which the limit must fail
 CLOSED_FORM_TOL = 4 * SIZING_TOLERANCE  # m, sized radius vs closed form on the same samples
@@ -168,6 +171,111 @@ def test_invalid_sizing_input_names_the_parameter(kwargs, parameter):
     with pytest.raises(InvalidParameter) as error:
         size_base_radius(TranslatingFlat(0.03), THETA, *LINEAR, **kwargs)
     assert error.value.parameter == parameter
+
+
+# ---------------------------------------------------------------- sizing on the exact motion
+
+def program(*segments):
+    """Return a MotionProgram of (law, start deg, end deg, s_start, s_end) segments."""
+    return MotionProgram(tuple(Segment(make_law(law), a * DEG, b * DEG, s0, s1)
+                               for law, a, b, s0, s1 in segments))
+
+
+SEED_PROGRAM = [('dwell', 0, 90, 0.0, 0.0), ('cycloidal', 90, 180, 0.0, 2 * CM),
+                ('dwell', 180, 240, 2 * CM, 2 * CM)]
+ISSUE_ROLLER = program(*SEED_PROGRAM, ('modified_sine', 240, 360, 2 * CM, 0.0))
+ISSUE_FLAT = program(*SEED_PROGRAM, ('simple_harmonic', 240, 360, 2 * CM, 0.0))
+OSCILLATION = program(('cycloidal', 0, 150, 0.0, 0.3), ('cycloidal', 150, 360, 0.3, 0.0))
+GRID = np.linspace(0.0, 2 * np.pi, 7200, endpoint=False)
+
+
+def exact_sizing(follower, motion, **kwargs):
+    """Size on the 7200-sample grid of the design checks, refined on the exact motion."""
+    values = motion.evaluate(GRID)
+    return size_base_radius(follower, GRID, values.s, values.ds, values.d2s, program=motion,
+                            **kwargs)
+
+
+def fine_extreme(func, kind):
+    """Return the extreme of a scalar-vectorised func: 2e6-sample scan, then minimize_scalar."""
+    sign = 1.0 if kind == 'min' else -1.0
+    fine = np.linspace(0.0, 2 * np.pi, 2_000_001)
+    index = int(np.argmin(sign * func(fine)))
+    found = minimize_scalar(lambda x: sign * func(np.array([x]))[0], method='bounded',
+                            bounds=(fine[max(index - 1, 0)], fine[min(index + 1, fine.size - 1)]),
+                            options={'xatol': 1e-14})
+    return sign * min(found.fun, sign * func(fine[index:index + 1])[0])
+
+
+def roller_peak_deg(base_radius, offset, roller_radius, motion):
+    """Return max |pressure angle| (deg) of a ccw translating roller by an independent search.
+
+    tan phi = (ds - e) / (d + s), d = sqrt(Rp^2 - e^2).
+    """
+    height = math.sqrt((base_radius + roller_radius) ** 2 - offset ** 2)
+
+    def angle(x):
+        values = motion.evaluate(x)
+        return np.abs(np.degrees(np.arctan((values.ds - offset) / (height + values.s))))
+    return fine_extreme(angle, 'max')
+
+
+def test_issue_roller_radius_meets_30_deg_exactly():
+    """Offset -0.8 cm, ccw, cycloidal rise, modified-sine return: the grid sizing was lenient."""
+    template = TranslatingRoller(0.04, CM, -0.8 * CM)
+    sizing = exact_sizing(template, ISSUE_ROLLER, max_pressure_angle=30 * DEG)
+    radius = sizing.base_radius
+    assert sizing.governing == 'pressure_angle'
+    assert roller_peak_deg(radius, -0.8 * CM, CM, ISSUE_ROLLER) <= 30.0
+    assert roller_peak_deg(radius * (1 - 1e-12), -0.8 * CM, CM, ISSUE_ROLLER) > 30.0
+
+
+def test_issue_flat_face_radius_leaves_no_undercut():
+    """rho = Rb + s + s'' >= 0 at the sized radius, by an independent fine search."""
+    sizing = exact_sizing(TranslatingFlat(0.04), ISSUE_FLAT, clockwise=True, min_radius=0.0)
+
+    def rho_minus_rb(x):
+        values = ISSUE_FLAT.evaluate(x)
+        return values.s + values.d2s
+    lowest = fine_extreme(rho_minus_rb, 'min')
+    assert sizing.governing == 'radius'
+    assert sizing.base_radius + lowest >= 0.0
+    assert sizing.base_radius * (1 - 1e-12) + lowest < 0.0
+    assert sizing.max_base_radius is None  # translating followers: not bounded above
+
+
+@pytest.mark.parametrize('with_cam, limit', [(True, 20), (False, 25)])
+def test_oscillating_roller_reports_both_ends_of_the_feasible_range(with_cam, limit):
+    """Both ends hold the limit and it fails just outside (independent fine search)."""
+    template = OscillatingRoller(0.03, CM, 0.09, 0.07, with_cam)
+    sizing = exact_sizing(template, OSCILLATION, max_pressure_angle=limit * DEG)
+    low, high = sizing.base_radius, sizing.max_base_radius
+    assert sizing.governing == sizing.max_governing == 'pressure_angle'
+    assert low < high
+
+    def peak(base_radius):
+        follower = dataclasses.replace(template, base_radius=base_radius)
+
+        def angle(x):
+            values = OSCILLATION.evaluate(x)
+            return np.abs(cam_geometry(follower, x, values.s, values.ds,
+                                       values.d2s).pressure_angle)
+        return fine_extreme(angle, 'max')
+    assert peak(low) <= limit * DEG and peak(high) <= limit * DEG
+    assert peak(low * (1 - 1e-9)) > limit * DEG and peak(high * (1 + 1e-9)) > limit * DEG
+
+
+def test_oscillating_flat_feasible_to_the_search_bound():
+    template = OscillatingFlat(0.03, 0.09, 0.0, False)
+    sizing = exact_sizing(template, OSCILLATION, min_radius=0.005)
+    assert sizing.governing == 'radius' and sizing.max_governing == 'search_bound'
+    assert sizing.base_radius < sizing.max_base_radius < 0.09
+
+
+def test_program_must_be_a_motion_program():
+    with pytest.raises(InvalidParameter) as error:
+        size_base_radius(TranslatingFlat(0.03), THETA, *LINEAR, min_radius=0.0, program='x')
+    assert error.value.parameter == 'program'
 
 
 # ---------------------------------------------------------------- seed 002's quick estimate
