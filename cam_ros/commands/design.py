@@ -13,6 +13,7 @@ from cam_ros.commands.common import (degrees, dump_json, end_progress, EXIT_FAIL
                                      format_table, load_design, number, output_path, progress,
                                      verdict, writing)
 from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core.dynamics_report import DynamicsReport
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
 #: Points of `export --cam-table` without --points or --tolerance: one per degree.
@@ -31,6 +32,12 @@ SAMPLE_FIELDS = (
     ('d3position_dangle3', 'd3s', '{p}/rad^3'),
     ('pressure_angle', 'pressure_angle', 'rad'),
     ('radius_of_curvature', 'radius_of_curvature', 'm'),
+)
+#: The dynamics arrays `cam_ros sample` adds for a design with dynamics: (name, field, unit).
+DYNAMICS_FIELDS = (
+    ('contact_force', 'contact_force', 'N'),
+    ('camshaft_torque', 'camshaft_torque', 'Nm'),
+    ('contact_stress', 'contact_stress', 'Pa'),
 )
 
 
@@ -80,6 +87,36 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
             'segment': estimate.segment, 'mean_radius': estimate.estimate.mean_radius,
             'prime_radius': estimate.estimate.prime_radius, 'base_radius': estimate.base_radius,
             'size_index': estimate.estimate.size_index, 'big_cam': estimate.estimate.big_cam},
+        **dynamics_data(report.dynamics),
+    }
+
+
+def dynamics_data(dynamics: DynamicsReport | None) -> dict[str, Any]:
+    """Return the report's dynamics keys (SI, angles deg); only 'dynamics': False without."""
+    if dynamics is None:
+        return {'dynamics': False}
+    d = dynamics
+    return {
+        'dynamics': True,
+        'contact_force_min': d.contact_force_min,
+        'contact_force_min_deg': degrees(d.contact_force_min_at),
+        'contact_force_max': d.contact_force_max,
+        'contact_force_max_deg': degrees(d.contact_force_max_at),
+        'jump': d.jump,
+        'jump_angles_deg': [[degrees(start), degrees(end)] for start, end in d.jump_angles],
+        'jump_speed': d.jump_speed,
+        'spring_preload': d.spring_preload,
+        'spring_preload_needed': d.spring_preload_needed,
+        'camshaft_torque_max': d.camshaft_torque_max,
+        'camshaft_torque_max_deg': degrees(d.camshaft_torque_max_at),
+        'camshaft_torque_rms': d.camshaft_torque_rms,
+        'power_max': d.power_max,
+        'cycle_work': d.cycle_work,
+        'contact_stress_max': d.contact_stress_max,
+        'contact_stress_max_deg': degrees(d.contact_stress_max_at),
+        'contact_half_width': d.contact_half_width,
+        'contact_stress_limit': d.contact_stress_limit,
+        'contact_stress_ok': d.contact_stress_ok,
     }
 
 
@@ -115,6 +152,47 @@ def _continuity_table(report: DesignReport) -> str:
             for j in report.continuity]
     table = format_table(('at deg', 'of', 'left', 'right', 'jump', 'unit'), rows)
     return '\n'.join('  ' + line for line in table.splitlines())
+
+
+def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the report's Dynamics lines (label, text); none without dynamics."""
+    d, design = report.dynamics, report.design
+    if d is None or design.dynamics is None:
+        return []
+    config, omega = design.dynamics.config, design.config.cam_speed
+    oscillating = position_unit(design) == 'rad'
+    force, rate, inertia = ('N m', 'N m/rad', 'kg m^2') if oscillating else ('N', 'N/m', 'kg')
+    stays = (('LEAVES the cam at ' + ', '.join(
+        f'{math.degrees(a):.1f}-{math.degrees(b):.1f}' for a, b in d.jump_angles) + ' deg')
+        if d.jump else 'the follower stays on the cam')
+    speed = 'never' if d.jump_speed is None else (
+        f'{number(d.jump_speed, 5)} rad/s ({number(d.jump_speed * 30.0 / math.pi, 5)} rpm), '
+        f'{d.jump_speed / omega:.3g} x the cam speed')
+    limit = 'no limit' if d.contact_stress_limit is None else (
+        f'limit {number(d.contact_stress_limit / 1e6)} MPa: {_limit_state(d.contact_stress_ok)}')
+    return [
+        ('Dynamics', f'{"arm inertia" if oscillating else "mass"} {number(config.inertia)} '
+                     f'{inertia}, spring {number(config.spring_rate)} {rate}, damping '
+                     f'{number(config.damping_ratio)} of critical, external load '
+                     f'{number(config.external_force)} {force}'),
+        ('Contact force', f'min {number(d.contact_force_min)} N at '
+                          f'{math.degrees(d.contact_force_min_at):.1f} deg, max '
+                          f'{number(d.contact_force_max)} N at '
+                          f'{math.degrees(d.contact_force_max_at):.1f} deg'),
+        ('', stays),
+        ('Jump speed', speed),
+        ('Spring preload', f'{number(d.spring_preload)} {force}; needed for safety factor '
+                           f'{number(config.jump_safety_factor)}: '
+                           f'{number(d.spring_preload_needed)} {force}'),
+        ('Camshaft torque', f'max |T| {number(d.camshaft_torque_max)} N m at '
+                            f'{math.degrees(d.camshaft_torque_max_at):.1f} deg, rms '
+                            f'{number(d.camshaft_torque_rms)} N m'),
+        ('', f'peak power {number(d.power_max)} W; net work per revolution '
+             f'{number(d.cycle_work)} J (damping and friction)'),
+        ('Contact stress', f'max {number(d.contact_stress_max / 1e6)} MPa at '
+                           f'{math.degrees(d.contact_stress_max_at):.1f} deg, half-width '
+                           f'{number(d.contact_half_width * 1e3)} mm; {limit}'),
+    ]
 
 
 def format_report(report: DesignReport, config: str) -> str:
@@ -158,6 +236,7 @@ def format_report(report: DesignReport, config: str) -> str:
                          f'{number(estimate.base_radius)} m, size index R/h = '
                          f'{estimate.estimate.size_index:.3g}'
                          + (' (big cam)' if estimate.estimate.big_cam else '')))
+    rows += _dynamics_rows(report)
     width = max(len(label) for label, _ in rows) + 2
     lines = [f'Cam design report: {config}', '']
     lines += [f'{label:<{width}}{text}' for label, text in rows]
@@ -189,9 +268,10 @@ def sample_angles(step_deg: float) -> np.ndarray:
 
 
 def sample_units(design: CamDesign) -> dict[str, str]:
-    """Return the unit of each sampled array for this design's follower."""
+    """Return the unit of each sampled array for this design's follower (and dynamics)."""
     unit = position_unit(design)
-    return {name: template.format(p=unit) for name, _, template in SAMPLE_FIELDS}
+    fields = SAMPLE_FIELDS + (DYNAMICS_FIELDS if design.dynamics else ())
+    return {name: template.format(p=unit) for name, _, template in fields}
 
 
 def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
@@ -201,6 +281,9 @@ def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
     state = design.evaluate(sample_angles(step_deg))
     units = sample_units(design)
     columns = {name: getattr(state, field) for name, field, _ in SAMPLE_FIELDS}
+    if state.dynamics is not None:
+        columns.update((name, getattr(state.dynamics, field))
+                       for name, field, _ in DYNAMICS_FIELDS)
     if json_output:
         print(dump_json({'config': str(config), 'units': units, **columns}))
     elif csv_output:

@@ -4,6 +4,7 @@ Nothing here imports ROS; the node and the CLI are thin shells around these name
 """
 from .config import CamConfig, PARAMETERS, load_config, parse_parameters, read_parameters_file
 from .design import CamDesign, CamState, build_design, check_angles
+from .dynamics import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError
 from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
                        TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry)
@@ -13,7 +14,8 @@ from .sizing import BaseRadiusEstimate, BaseRadiusSizing, estimate_base_radius, 
 
 __all__ = [
     'BaseRadiusEstimate', 'BaseRadiusSizing', 'CamConfig', 'CamDesign', 'CamError',
-    'CamGeometry', 'CamState', 'Discontinuity', 'Follower', 'GeometryCheck', 'InvalidParameter',
+    'CamGeometry', 'CamState', 'Discontinuity', 'DynamicsConfig', 'DynamicsValues', 'Follower',
+    'FollowerDynamics', 'GeometryCheck', 'InvalidParameter',
     'LAWS', 'LawValues', 'MotionLaw', 'MotionProgram', 'OscillatingFlat', 'OscillatingRoller',
     'PARAMETERS', 'ProgramValues', 'RecordingError', 'Segment', 'TranslatingFlat',
     'TranslatingRoller', 'build_design', 'cam_geometry', 'check_angles', 'check_geometry',

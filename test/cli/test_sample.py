@@ -136,5 +136,6 @@ def test_every_shipped_config_samples(config, capsys):
     assert len(run.err.splitlines()) == (0 if design.check.ok else len(design.warnings()))
     rows = list(csv.reader(io.StringIO(run.out)))
     values = np.array(rows[1:], dtype=float)
-    assert len(rows[0]) == len(FIELDS) and values.shape == (72, len(FIELDS))
+    columns = len(FIELDS) + (3 if design.dynamics else 0)  # contact force, torque, stress
+    assert len(rows[0]) == columns and values.shape == (72, columns)
     np.testing.assert_array_equal(values[:, 1], design.evaluate(values[:, 0]).position)
