@@ -537,14 +537,24 @@ class _Extremes:
         return refine_extrema(self._function(measures), self._theta, values,
                               [kind for _, kind in wanted], breaks=self._breaks)
 
-    def zeros(self, measure: Measure) -> Array:
-        """Return the angles where the measure changes sign (grid: interpolated)."""
+    def zeros(self, measure: Measure, inside: Optional[float] = None) -> Array:
+        """Return the angles where the measure changes sign (grid: interpolated).
+
+        inside, an angle (rad) where the measure is known to be <= 0, joins the grid, so that a
+        dip below zero between two samples is bracketed too.
+        """
         values = np.asarray(measure(self._sampled))[self._order]
         if self._program is None or values.size < 3:
             return _zero_crossings(self._theta, values)
         exact = self._function([measure])
-        return refine_roots(lambda angles: exact(angles)[0], self._theta, values,
-                            breaks=self._breaks)
+        theta = self._theta
+        if inside is not None:
+            at = float(np.mod(inside, TWO_PI))
+            place = int(np.searchsorted(theta, at))
+            if place == theta.size or theta[place] != at:
+                theta = np.insert(theta, place, at)
+                values = np.insert(values, place, exact(np.array([at]))[0, 0])
+        return refine_roots(lambda angles: exact(angles)[0], theta, values, breaks=self._breaks)
 
 
 def _pressure_angle_of(measures: Any) -> Array:
@@ -701,12 +711,13 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
     else:
         undercut_margin = smallest = worst
     undercut = _undercut_measure(follower)
+    dip = worst_at if undercut_margin <= 0.0 else None
     at = np.asarray(geometry.theta)[np.asarray(undercut(geometry)) <= 0.0]
     if undercut_margin <= 0.0 and not at.size:
         at = np.array([worst_at])
     return GeometryCheck(
         undercut_angles=_frozen(at),
-        cusp_angles=_frozen(extremes.zeros(undercut)),
+        cusp_angles=_frozen(extremes.zeros(undercut, dip)),
         max_pressure_angle=peak,
         max_pressure_angle_at=peak_at,
         pressure_angle_limit=angle_limit,

@@ -7,12 +7,14 @@ oscillating-roller formula and seed 000's flat-face lecture (formulas and table)
 import dataclasses
 import math
 
-from cam_motions import rise_return, seed_000
+from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry import (
     cam_geometry, check_geometry, OscillatingFlat, OscillatingRoller, TranslatingFlat,
     TranslatingRoller,
 )
+from cam_ros.core.laws import make_law
+from cam_ros.core.program import MotionProgram, Segment
 import numpy as np
 import pytest
 
@@ -482,6 +484,135 @@ def test_check_pressure_angle_and_radius_limits(clockwise):
     assert below.pressure_angle_ok is False and not below.ok
     assert check_geometry(geometry, min_radius=smallest * (1 - 1e-9)).radius_ok
     assert check_geometry(geometry, min_radius=smallest * (1 + 1e-9)).radius_ok is False
+
+
+# ---------------------------------------------------------------- checks on the exact motion
+
+DEG = math.pi / 180
+GRID = np.linspace(0.0, 2 * np.pi, 7200, endpoint=False)  # the design checks' sampling
+RISE = 2 * CM
+
+
+def program(*segments):
+    """Return a MotionProgram of (law, start deg, end deg, s_start, s_end) segments."""
+    return MotionProgram(tuple(Segment(make_law(law), a * DEG, b * DEG, s0, s1)
+                               for law, a, b, s0, s1 in segments))
+
+
+SEED = program(('dwell', 0, 90, 0.0, 0.0), ('cycloidal', 90, 180, 0.0, RISE),
+               ('dwell', 180, 240, RISE, RISE), ('simple_harmonic', 240, 360, RISE, 0.0))
+
+
+def exact_check(follower, motion, clockwise=False, **limits):
+    """Return check_geometry on the design grid, refined on the exact motion."""
+    values = motion.evaluate(GRID)
+    geometry = cam_geometry(follower, GRID, values.s, values.ds, values.d2s, clockwise=clockwise)
+    return check_geometry(geometry, program=motion, **limits)
+
+
+def seed_rho_minimum():
+    """Return (min of s + s'', angle) on seed 000's cycloidal rise (beta = 90 deg) in closed form.
+
+    d/du (s + s'') = 0  <=>  cos(2 pi u) (4 pi^2 / beta^2 - 1) = -1, with sin(2 pi u) < 0.
+    """
+    beta = math.pi / 2
+    turn = 2 * math.pi - math.acos(-1.0 / (4 * math.pi ** 2 / beta ** 2 - 1.0))
+    u = turn / (2 * math.pi)
+    value = RISE * (u - math.sin(turn) / (2 * math.pi)) + 2 * math.pi * RISE / beta ** 2 * \
+        math.sin(turn)
+    return value, beta + u * beta
+
+
+def test_flat_face_minimum_radius_is_the_closed_form(clockwise):
+    value, angle = seed_rho_minimum()
+    check = exact_check(TranslatingFlat(0.04), SEED, clockwise)
+    assert check.min_radius == pytest.approx(0.04 + value, rel=1e-14)
+    assert check.min_radius_at == pytest.approx(angle, abs=1e-8)
+
+
+def test_flat_face_minimum_at_a_joint_is_the_one_sided_limit():
+    """Harmonic rise then dwell: rho = Rb + h - h/2 (pi/beta)^2 just before the joint (u -> 1).
+
+    The sample on the joint belongs to the dwell (rho = Rb + h), so the grid misses it.
+    """
+    motion = program(('simple_harmonic', 0, 120, 0.0, RISE), ('dwell', 120, 180, RISE, RISE),
+                     ('simple_harmonic', 180, 300, RISE, 0.0), ('dwell', 300, 360, 0.0, 0.0))
+    check = exact_check(TranslatingFlat(0.04), motion)
+    expected = 0.04 + RISE - RISE / 2 * (math.pi / (120 * DEG)) ** 2
+    assert check.min_radius == pytest.approx(expected, abs=1e-16)
+    assert min(abs(check.min_radius_at - 120 * DEG), abs(check.min_radius_at - 180 * DEG)) < 1e-13
+
+
+def test_zero_offset_roller_pressure_angle_peak_is_a_root_of_the_derivative():
+    """tan phi = s' / (Rp + s) peaks where s'' (Rp + s) = s'^2 on the cycloidal rise."""
+    from scipy.optimize import brentq
+    prime = 0.05
+    beta, start = math.pi / 2, math.pi / 2
+
+    def motion(x):
+        return cycloidal(np.array([x]), start, beta, RISE)
+
+    def slope(x):
+        s, ds, d2s = (value[0] for value in motion(x))
+        return d2s * (prime + s) - ds ** 2
+    peak_at = brentq(slope, start + 0.01, start + beta / 2, xtol=1e-15, rtol=1e-15)
+    s, ds, _ = (value[0] for value in motion(peak_at))
+    check = exact_check(TranslatingRoller(prime - CM, CM), SEED)
+    assert check.max_pressure_angle == pytest.approx(math.atan(ds / (prime + s)), rel=1e-14)
+    assert check.pressure_angle_high == (check.max_pressure_angle, check.max_pressure_angle_at)
+    assert check.max_pressure_angle_at == pytest.approx(peak_at, abs=1e-8)
+    values = SEED.evaluate(GRID)
+    grid = cam_geometry(TranslatingRoller(prime - CM, CM), GRID, values.s, values.ds, values.d2s)
+    assert check.max_pressure_angle > np.abs(grid.pressure_angle).max()
+
+
+def test_face_extents_are_the_peaks_of_ds():
+    """t = ds: from -h pi / (2 beta_return) to 2 h / beta_rise (mid-rise of the cycloid)."""
+    check = exact_check(TranslatingFlat(0.04), SEED, True)
+    assert check.face_max == pytest.approx(2 * RISE / (math.pi / 2), rel=1e-15)
+    assert check.face_min == pytest.approx(-RISE * math.pi / (2 * 120 * DEG), rel=1e-15)
+
+
+def bisect(func, low, high):
+    """Return the root of func in [low, high] by bisection down to adjacent doubles."""
+    f_low = func(low)
+    while True:
+        middle = 0.5 * (low + high)
+        if middle in (low, high):
+            return middle
+        if (func(middle) > 0) == (f_low > 0):
+            low, f_low = middle, func(middle)
+        else:
+            high = middle
+
+
+def test_cusp_angles_are_roots():
+    """Seed 000 with Rb = 3.2 cm: rho = Rb + s + s'' changes sign twice near 156.5 deg."""
+    check = exact_check(TranslatingFlat(SEED_000_BASE), SEED, True)
+    edges = [bisect(seed_000_rho, a * DEG, b * DEG) for a, b in ((150, 156.5), (156.5, 165))]
+    np.testing.assert_allclose(check.cusp_angles, edges, rtol=0.0, atol=2e-15)
+    assert check.undercut and not check.ok
+
+
+def test_undercut_between_samples_is_found():
+    """A base radius 1e-10 m short of the closed-form need: undercut that no sample shows."""
+    value, angle = seed_rho_minimum()
+    follower = TranslatingFlat(-value - 1e-10)
+    values = SEED.evaluate(GRID)
+    geometry = cam_geometry(follower, GRID, values.s, values.ds, values.d2s)
+    assert not check_geometry(geometry).undercut  # the grid alone misses it
+    check = exact_check(follower, SEED)
+    assert check.undercut and check.radius_ok is None
+    assert check.min_radius == pytest.approx(-1e-10, abs=1e-16)
+    np.testing.assert_array_equal(check.undercut_angles, [check.min_radius_at])
+    assert check.min_radius_at == pytest.approx(angle, abs=1e-8)
+    low, high = check.cusp_angles  # the dip's two ends, roots of rho on either side of it
+    assert low < check.min_radius_at < high and high - low < 1e-4
+
+    def rho(x):
+        return follower.base_radius + seed_000_rho(x) - SEED_000_BASE
+    for edge, outside in ((low, angle - 1e-3), (high, angle + 1e-3)):
+        assert edge == pytest.approx(bisect(rho, outside, angle), abs=1e-11)
 
 
 # ---------------------------------------------------------------- validation and immutability
