@@ -35,6 +35,7 @@ from cam_ros.commands.common import EXIT_INVALID
 from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, check_angles,
                           parse_parameters)
 from cam_ros.core.config import PARAMETERS, SPECS
+from cam_ros.ecam import MasterFollower
 from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
                                      parameter_sources, ParameterSources, parse_command_line,
                                      plain, USAGE)
@@ -84,9 +85,13 @@ class CamNode(Node):
         self._markers_pub = self.create_publisher(MarkerArray, '~/markers', LATCHED)
         self._joint_pub = self.create_publisher(JointState, '~/joint_states', STATE_QOS)
         self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
+        self._ecam = MasterFollower.attach(self, self.design, self._joint_pub,
+                                           lambda: self._recorder)
         self._start_ns = self.get_clock().now().nanoseconds
         self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
                                               self._publish_state)
+        if self._ecam:  # the master axis drives the state instead
+            self._state_timer.cancel()
         self._recorder: Recorder | None = None
         if self.design.config.recording_enabled:
             self._set_recording(True)
@@ -135,6 +140,8 @@ class CamNode(Node):
         if self._pending is None:
             return
         self.design, self._pending = self._pending, None
+        if self._ecam:
+            self._ecam.change(self.design)
         self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
         self._publish_design()
         self._log_design()
@@ -215,7 +222,8 @@ class CamNode(Node):
         publishers = (self._profile_pub, self._pressure_pub, self._markers_pub, self._joint_pub,
                       self._extras_pub)
         return [TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
-                for pub in publishers] + [PARAMETER_EVENTS]
+                for pub in publishers] + [PARAMETER_EVENTS] + (
+                    self._ecam.topics() if self._ecam else [])
 
     def destroy_node(self) -> None:
         """Close a running recording (writing its summary) before the node goes away."""

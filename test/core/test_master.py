@@ -39,7 +39,7 @@ def test_master_positions_map_modulo_one_cam_revolution(q):
 
 @pytest.mark.parametrize('q0', [2.8, 4.0, 8.5, -3.0])  # rise, dwell end, return, negative
 def test_velocity_acceleration_jerk_are_the_chain_rule_of_the_master_motion(q0):
-    omega, alpha = 7.0, -3.0  # a master at constant acceleration: q(t) = q0 + omega t + alpha t^2/2
+    omega, alpha = 7.0, -3.0  # constant master acceleration: q = q0 + omega t + alpha t^2 / 2
 
     def position(t):
         return CAM.setpoints(q0 + omega * t + 0.5 * alpha * t ** 2).position

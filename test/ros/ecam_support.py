@@ -1,0 +1,121 @@
+"""A test-side master axis for the electronic cam: stamped JointStates in, outputs back."""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from diagnostic_msgs.msg import DiagnosticArray
+from rclpy.qos import QoSProfile
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+from test_node import Inbox
+from trajectory_msgs.msg import JointTrajectory
+
+from cam_ros.core import build_design, parse_parameters, read_parameters_file
+
+DEEP = QoSProfile(depth=10000)  # reliable and deep: the test never loses a message
+CHUNK = 50  # master messages sent before waiting for their commands
+WAIT_S = 20.0
+ANSWERS = ('commands', 'joints')  # what every accepted master message gets
+TOPICS = {'commands': ('/cam/commands', Float64MultiArray),
+          'joints': ('/cam/joint_states', JointState),
+          'trajectories': ('/cam/joint_trajectory', JointTrajectory),
+          'diagnostics': ('/diagnostics', DiagnosticArray)}
+
+
+def ecam_design(params_file, **updates):
+    """Return the design of a params file with updates (independently of the node)."""
+    values = read_parameters_file(params_file)
+    values.update(updates)
+    return build_design(parse_parameters(values))
+
+
+def master_message(stamp_ns, names=('cam',), position=(0.0,), velocity=(), effort=()):
+    """Build a master JointState with an explicit stamp."""
+    message = JointState(name=list(names), position=[float(p) for p in position],
+                         velocity=[float(v) for v in velocity],
+                         effort=[float(e) for e in effort])
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(int(stamp_ns), 10 ** 9)
+    return message
+
+
+def stamp_of(message) -> int:
+    """Return a message's header stamp in ns."""
+    return message.header.stamp.sec * 10 ** 9 + message.header.stamp.nanosec
+
+
+class MasterLink:
+    """Publish master messages to /cam/master and collect what the node publishes."""
+
+    def __init__(self, executor):
+        self.node = executor.node(f'master_{time.monotonic_ns()}')
+        self.publisher = self.node.create_publisher(JointState, '/cam/master', DEEP)
+        self.inbox = {key: Inbox(self.node, msg_type, topic, DEEP)
+                      for key, (topic, msg_type) in TOPICS.items()}
+
+    def messages(self, key: str) -> list:
+        """Return what arrived on one output so far."""
+        with self.inbox[key].arrived:
+            return list(self.inbox[key].messages)
+
+    def connect(self, process, stamp_ns: int = 1) -> None:
+        """Send probes (position 0, at rest) until the node answers one: every path matched."""
+        deadline = time.monotonic() + WAIT_S
+        while not (self.messages('commands') and self.messages('joints')):
+            assert process.process.poll() is None, process.log()
+            assert time.monotonic() < deadline, f'no commands from the node:\n{process.log()}'
+            self.publisher.publish(master_message(stamp_ns, velocity=(0.0,)))
+            stamp_ns += 1
+            time.sleep(0.2)
+        time.sleep(0.3)  # let the last probes' answers in
+
+    def send(self, messages, answered: bool = True) -> None:
+        """Publish messages in chunks; with answered, wait for a command for each of them."""
+        for start in range(0, len(messages), CHUNK):
+            chunk = messages[start:start + CHUNK]
+            expected = [(key, len(self.messages(key)) + len(chunk)) for key in ANSWERS]
+            for message in chunk:
+                self.publisher.publish(message)
+            for key, count in expected if answered else ():
+                self.inbox[key].wait(count, WAIT_S)
+
+    def diagnostics(self, name: str, predicate, timeout: float = WAIT_S) -> dict:
+        """Wait for a /diagnostics status named name whose values satisfy predicate."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            for array in reversed(self.messages('diagnostics')):
+                for status in array.status:
+                    if status.name == name:
+                        values = {item.key: item.value for item in status.values}
+                        values.update(level=status.level, message=status.message)
+                        if predicate(values):
+                            return values
+                        break
+            time.sleep(0.1)
+        last = self.messages('diagnostics')[-1:]
+        raise AssertionError(f'no {name} diagnostics as expected: {last}')
+
+
+def phases_profile(phases, dt: float, q0: float = 0.0):
+    """Sample a master of constant-acceleration phases [(duration s, alpha rad/s^2)] every dt.
+
+    Return times, positions, speeds and the index of the phase each sample opens (a sample on a
+    boundary belongs to the phase after it).
+    """
+    times, positions, speeds, phase_of = [], [], [], []
+    t0, q, omega = 0.0, q0, 0.0
+    for number, (length, alpha) in enumerate(phases):
+        count = int(round(length / dt))
+        local = dt * np.arange(count)
+        times.append(t0 + local)
+        positions.append(q + omega * local + 0.5 * alpha * local ** 2)
+        speeds.append(omega + alpha * local)
+        phase_of.append(np.full(count, number))
+        t0, q, omega = t0 + count * dt, q + omega * count * dt + 0.5 * alpha * (count * dt) ** 2, \
+            omega + alpha * count * dt
+    return (np.concatenate(times), np.concatenate(positions), np.concatenate(speeds),
+            np.concatenate(phase_of))
+
+
+RPM = 2 * math.pi / 60

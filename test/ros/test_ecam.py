@@ -1,0 +1,183 @@
+"""cam_node as an electronic cam: a real node process follows a master axis fed by the test."""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from conftest import CONFIG_DIR
+from ecam_support import (ecam_design, master_message, MasterLink, phases_profile, RPM,
+                          stamp_of)
+from rclpy.parameter import Parameter
+from test_node import set_parameters
+
+DEFAULT = CONFIG_DIR / 'default.yaml'
+TOPIC_MODE = ('-p', 'master.source:=topic')
+#: MC_CamIn mapping of the main run, in the file's units (cm, deg).
+MAPPING = {'master.offset_deg': 30.0, 'master.scaling': 2.0, 'slave.offset': 0.5,
+           'slave.scaling': -1.0}
+START_NS = 1_000 * 10 ** 9  # stamps of the master's run start here (any origin works)
+DT = 0.002  # s between master messages
+
+
+def ros_args(values: dict) -> list[str]:
+    """Turn parameter values into -p arguments."""
+    return [arg for name, value in values.items() for arg in ('-p', f'{name}:={value}')]
+
+
+def reference(design, q, omega):
+    """Follower position and velocity at master q, speed omega: MC_CamIn and chain rule here."""
+    config = design.config.parameters
+    scaling, slave_scaling = config['master.scaling'], config['slave.scaling']
+    theta = np.mod((np.asarray(q) - math.radians(config['master.offset_deg'])) / scaling,
+                   2 * math.pi)
+    values = design.program.evaluate(theta)
+    offset = config['slave.offset'] * 0.01  # cm
+    return (slave_scaling * values.s + offset,
+            slave_scaling * values.ds * np.asarray(omega) / scaling)
+
+
+def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_node, executor):
+    process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, *ros_args(MAPPING), '-p',
+                                'master.timeout:=10.0')
+    design = ecam_design(DEFAULT, **MAPPING)
+    link = MasterLink(executor)
+    link.connect(process)
+    accelerate = 600 * RPM / 0.5
+    times, q, omega, phase = phases_profile(
+        [(0.5, accelerate), (0.2, 0.0), (0.5, -accelerate), (0.1, 0.0), (0.3, -accelerate / 2),
+         (0.2, 0.0)], DT, q0=-3.0)
+    assert q.max() - q.min() > 4 * 2 * math.pi  # several master (and cam) turns
+    with_velocity = times < 0.9  # the first half says its speed, the second leaves it out
+    stamps = START_NS + np.round(times * 1e9).astype(np.int64)
+    messages = [master_message(stamp, ('other', 'cam'), (5.0, position),
+                               (1.0, speed) if given else ())
+                for stamp, position, speed, given in zip(stamps.tolist(), q.tolist(),
+                                                         omega.tolist(), with_velocity.tolist())]
+    before = len(link.messages('commands'))
+    link.send(messages)
+    commands = np.array([m.data[0] for m in link.messages('commands')[before:]])
+    position, velocity = reference(design, q, omega)
+    assert commands.size == len(messages)
+    np.testing.assert_allclose(commands, position, rtol=0, atol=1e-12)
+
+    joints = [m for m in link.messages('joints') if stamp_of(m) >= START_NS]
+    assert [stamp_of(m) for m in joints] == stamps.tolist()  # same stamp as the master
+    assert all(m.name == ['cam', 'follower'] for m in joints)
+    follower_velocity = np.array([m.velocity[1] for m in joints])
+    np.testing.assert_allclose(follower_velocity[with_velocity], velocity[with_velocity],
+                               rtol=1e-12, atol=1e-15)
+    # Estimated speeds are exact once three samples lie in one constant-acceleration phase.
+    same_phase = np.zeros_like(with_velocity)
+    same_phase[2:] = (phase[2:] == phase[:-2]) | (times[2:] - times[:-2] < 0)
+    estimated = ~with_velocity & same_phase
+    estimated[np.flatnonzero(~with_velocity)[:2]] = False
+    assert estimated.sum() > 300
+    np.testing.assert_allclose(follower_velocity[estimated], velocity[estimated], rtol=1e-6,
+                               atol=1e-9)
+    assert process.process.poll() is None
+
+
+def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_node, executor):
+    process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, '-p', 'command.interface:=velocity',
+                                '-p', 'command.trajectory_horizon:=0.05',
+                                '-p', 'command.trajectory_points:=5', '-p', 'master.timeout:=1.0')
+    design = ecam_design(DEFAULT)
+    link = MasterLink(executor)
+    link.connect(process)
+    good = [master_message(START_NS + k * 10 ** 7, position=(1.9 + 0.2 * k,), velocity=(20.0,))
+            for k in range(5)]
+    link.send(good)
+    commands = [m.data[0] for m in link.messages('commands')[-5:]]
+    np.testing.assert_allclose(commands, reference(design, [1.9 + 0.2 * k for k in range(5)],
+                                                   20.0)[1], rtol=1e-12)
+    link.inbox['trajectories'].wait(len(link.messages('commands')))
+    last = link.messages('trajectories')[-1]
+    times = np.array([p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec
+                      for p in last.points])
+    np.testing.assert_allclose(times, 0.01 * np.arange(1, 6), atol=1e-9)
+    ahead_position, ahead_velocity = reference(design, 2.7 + 20.0 * times, 20.0)
+    np.testing.assert_allclose([p.positions[0] for p in last.points], ahead_position, atol=1e-12)
+    np.testing.assert_allclose([p.velocities[0] for p in last.points], ahead_velocity,
+                               rtol=1e-12)
+    assert last.joint_names == ['follower'] and all(len(p.accelerations) == 1
+                                                    for p in last.points)
+
+    stamp = START_NS + 10 ** 8
+    bad = [master_message(stamp, names=('other',), position=(1.0,)),
+           master_message(stamp + 1, position=(math.nan,)),
+           master_message(stamp + 2, position=(math.inf,)),
+           master_message(stamp + 3, position=(1.0,), velocity=(-math.inf,)),
+           master_message(stamp + 4, names=('cam', 'x'), position=(1.0,)),
+           master_message(stamp + 5, position=(1.0,), velocity=(1.0, 2.0)),
+           master_message(stamp + 6, position=(1.0,), effort=(1.0, 2.0)),
+           master_message(START_NS, position=(1.0,)),  # backwards
+           master_message(START_NS + 4 * 10 ** 7, position=(1.0,))]  # equal to the last
+    link.send(bad, answered=False)
+    link.send([master_message(stamp + 7, position=(3.0,), velocity=(20.0,))])
+    assert link.messages('commands')[-1].data[0] == reference(design, 3.0, 20.0)[1]
+    probes = len([m for m in link.messages('joints') if stamp_of(m) < START_NS])
+    master = link.diagnostics('cam: master', lambda v: v['accepted'] == str(6 + probes)
+                              and v['dropped'] == '9')
+    assert master['dropped: no master joint'] == '1'
+    assert master['dropped: not finite'] == '3'
+    assert master['dropped: mismatched array lengths'] == '3'
+    assert master['dropped: stamp not after the previous'] == '2'
+    assert process.process.poll() is None
+
+    # Master loss: one hold command (velocity 0), zero speeds, then the master comes back.
+    count, joints, plans = (len(link.messages(key))
+                            for key in ('commands', 'joints', 'trajectories'))
+    link.inbox['commands'].wait(count + 1)
+    hold = link.messages('commands')[count]
+    assert list(hold.data) == [0.0]
+    assert list(link.inbox['joints'].wait(joints + 1)[-1].velocity) == [0.0, 0.0]
+    held = link.inbox['trajectories'].wait(plans + 1)[-1]
+    assert len(held.points) == 1 and list(held.points[0].velocities) == [0.0]
+    lost = link.diagnostics('cam: master', lambda v: v['message'] == 'lost')
+    assert lost['level'] == b'\x02'
+    time.sleep(1.0)
+    assert len(link.messages('commands')) == count + 1  # said once
+    link.send([master_message(stamp + 10 ** 9, position=(2.5,), velocity=(-5.0,))])
+    assert link.messages('commands')[-1].data[0] == reference(design, 2.5, -5.0)[1]
+    link.diagnostics('cam: master', lambda v: v['message'] == 'ok')
+    log = process.log()
+    assert 'master silent for 1 s' in log and 'master lost -> ok' in log
+    assert 'dropped a master message' in log
+
+
+def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_node, executor):
+    process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, '-p', 'master.timeout:=30.0')
+    rise = {'motion.start_position': [0.0, 0.0, 3.0, 3.0],
+            'motion.end_position': [0.0, 3.0, 3.0, 0.0]}
+    old, new = ecam_design(DEFAULT), ecam_design(DEFAULT, **rise)
+    link = MasterLink(executor)
+    link.connect(process)
+    speed, step = 20.0, 0.1  # rad/s, rad per message
+    q = 1.0 + step * np.arange(120)  # over 1.2 turns from 57 deg
+    messages = [master_message(START_NS + round(k * step / speed * 1e9), position=(angle,),
+                               velocity=(speed,)) for k, angle in enumerate(q.tolist())]
+    first = len(link.messages('commands'))
+    link.send(messages[:20])  # now in the rise (up to 166 deg)
+    result = set_parameters(executor, [Parameter(name, value=value)
+                                       for name, value in rise.items()])
+    assert result.successful, result.reason
+    link.send(messages[20:])
+    commands = np.array([m.data[0] for m in link.messages('commands')[first:]])
+    by_old, by_new = reference(old, q, speed)[0], reference(new, q, speed)[0]
+    from_old = np.abs(commands - by_old) <= 1e-12
+    from_new = np.abs(commands - by_new) <= 1e-12
+    assert (from_old | from_new).all()
+    old_only = np.flatnonzero(from_old & ~from_new)
+    new_only = np.flatnonzero(from_new & ~from_old)
+    # The old cam rules on after the change (in the rise, where the cams differ by up to 1 cm)
+    # and through the return; the new one from the common dwell at 0-90 deg on.
+    assert old_only[-1] > 20 and 240.0 < np.degrees(q[old_only[-1]]) % 360.0 < 360.0
+    assert new_only[0] > old_only[-1] and from_new[new_only[0]:].all()
+    assert 90.0 < np.degrees(q[new_only[0]]) % 360.0 < 100.0
+    assert from_old[:new_only[0]].all()
+    # No step: every increment is one the old or the new cam makes over the same master step.
+    increments = np.maximum(np.abs(np.diff(by_old)), np.abs(np.diff(by_new)))
+    assert (np.abs(np.diff(commands)) <= increments + 1e-9).all()
+    log = process.log()
+    assert 'design change pending' in log and 'design change applied at cam angle' in log
