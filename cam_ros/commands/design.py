@@ -72,6 +72,8 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'cusp_angles_deg': [degrees(angle) for angle in report.cusp_angles],
         'min_base_radius': report.min_base_radius,
         'min_base_radius_governing': report.min_base_radius_governing,
+        'max_base_radius': report.max_base_radius,
+        'max_base_radius_governing': report.max_base_radius_governing or None,
         'face_width': None if report.face_range is None else list(report.face_range),
         'segments': [{
             'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
@@ -224,6 +226,9 @@ def format_report(report: DesignReport, config: str) -> str:
                            f'{report.min_base_radius_governing.replace("_", " ")})'
                            if report.min_base_radius is not None else 'none found')),
     ]
+    if report.max_base_radius is not None:
+        rows.append(('', f'largest meeting the limits: {number(report.max_base_radius)} m (set by '
+                         f'{report.max_base_radius_governing.replace("_", " ")})'))
     if report.face_range is not None:
         low, high = report.face_range
         rows.append(('Face width', f'contact from {number(low)} to {number(high)} m along the '

@@ -17,14 +17,16 @@ from cam_ros.cli import main
 
 #: Dense grid of the independent references (the report samples 7200 angles per turn).
 REFERENCE_SAMPLES = 720_000
-#: The report's extremes come from 0.05 deg samples: angle values agree to this (deg) ...
-EXTREME_TOLERANCE_DEG = 1e-3
-#: ... lengths to this relative tolerance, angles of the extremes to one sample (deg).
-RELATIVE_TOLERANCE = 1e-5
-ANGLE_AT_TOLERANCE_DEG = 0.05
-#: Sizing tolerance (m) of the smallest base radius (sizing.SIZING_TOLERANCE, plus margin).
-SIZING_TOLERANCE_M = 1e-8
-STEP_BELOW_M = 1e-6  # a base radius this much below the smallest one violates the limit
+#: The report refines its extremes between its 0.05 deg samples; the references' own error on
+#: 720,000 samples is ~ f'' h^2 / 8 (h = 8.7e-6 rad): angle values agree to this (deg) ...
+EXTREME_TOLERANCE_DEG = 1e-8
+#: ... lengths to this relative tolerance, angles of the extremes to a reference sample (deg).
+RELATIVE_TOLERANCE = 1e-9
+ANGLE_AT_TOLERANCE_DEG = 1e-3
+#: The smallest base radius holds the limit exactly; 1e-12 m less (about 1e-11 rad of
+#: pressure angle) violates it.
+SIZING_TOLERANCE_M = 1e-12
+STEP_BELOW_M = 1e-12
 
 
 def report_json(capsys, config) -> tuple[int, dict]:
@@ -144,11 +146,11 @@ def test_min_base_radius_is_where_the_pressure_angle_limit_is_reached(default_re
 def test_min_base_radius_meets_the_limit_and_just_below_violates_it(default_report, tmp_path,
                                                                     capsys):
     smallest = default_report[1]['min_base_radius']
-    at = edited(tmp_path, 'at', follower__base_radius=(smallest + SIZING_TOLERANCE_M) / 0.01)
+    at = edited(tmp_path, 'at', follower__base_radius=smallest / 0.01)
     below = edited(tmp_path, 'below', follower__base_radius=(smallest - STEP_BELOW_M) / 0.01)
     code, data = report_json(capsys, at)
     assert code == 0 and data['pressure_angle_ok'] is True
-    assert data['pressure_angle_max_deg'] == pytest.approx(PRESSURE_LIMIT_DEG, abs=1e-4)
+    assert data['pressure_angle_max_deg'] == pytest.approx(PRESSURE_LIMIT_DEG, abs=1e-12)
     code, data = report_json(capsys, below)
     assert code == 1 and data['pressure_angle_ok'] is False and data['ok'] is False
     assert data['min_base_radius'] == pytest.approx(smallest, abs=SIZING_TOLERANCE_M)
@@ -207,6 +209,21 @@ def test_every_follower_reports_in_its_position_unit(kind, tmp_path, capsys):
     assert data['position_unit'] == ('rad' if kind.startswith('oscillating') else 'm')
     assert (data['face_width'] is None) == kind.endswith('roller')
     assert data['min_base_radius'] > 0
+    if kind.startswith('oscillating'):  # bounded base radius: both ends of the feasible range
+        assert data['max_base_radius'] > data['min_base_radius']
+        assert data['max_base_radius_governing'] in ('pressure_angle', 'radius', 'geometry',
+                                                     'search_bound')
+    else:
+        assert data['max_base_radius'] is None and data['max_base_radius_governing'] is None
+
+
+def test_text_report_gives_both_ends_of_a_bounded_base_radius(tmp_path, capsys):
+    config = follower_config(tmp_path, 'oscillating_roller')
+    _, data = report_json(capsys, config)
+    run = run_cli(capsys, 'report', config)
+    assert run.err == ''
+    assert (f"largest meeting the limits: {data['max_base_radius']:.6g} m (set by "
+            f"{data['max_base_radius_governing'].replace('_', ' ')})") in run.out
 
 
 @pytest.mark.parametrize('changes, violated', [
