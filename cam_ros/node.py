@@ -46,11 +46,24 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
 STATE_QOS = QoSProfile(depth=10)
 CAM_FRAME = 'cam'
+#: Rows of the latched ~/dynamics array (empty for a design without dynamics).
+DYNAMICS_ROWS = ('cam_angle_rad', 'contact_force_N', 'camshaft_torque_Nm', 'contact_stress_Pa')
 
 
 def as_float64(values: np.ndarray) -> array.array:
     """Convert a float64 array to the message field type without a per-element loop."""
     return array.array('d', np.ascontiguousarray(values, dtype=np.float64).tobytes())
+
+
+def labelled_rows(labels: Sequence[str], rows: Sequence[np.ndarray]) -> Float64MultiArray:
+    """Return rows of equal length as a Float64MultiArray whose first dim names them."""
+    count = rows[0].size if rows else 0
+    message = Float64MultiArray()
+    message.layout.dim = [
+        MultiArrayDimension(label=','.join(labels), size=len(rows), stride=len(rows) * count),
+        MultiArrayDimension(label='sample', size=count, stride=count)]
+    message.data = as_float64(np.concatenate(rows) if rows else np.empty(0))
+    return message
 
 
 def duration(seconds: float) -> Duration:
@@ -85,6 +98,7 @@ class CamNode(Node):
         self._markers_pub = self.create_publisher(MarkerArray, '~/markers', LATCHED)
         self._joint_pub = self.create_publisher(JointState, '~/joint_states', STATE_QOS)
         self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
+        self._dynamics_pub = self.create_publisher(Float64MultiArray, '~/dynamics', LATCHED)
         self._ecam = MasterFollower.attach(self, self.design, self._joint_pub,
                                            lambda: self._recorder)
         self._start_ns = self.get_clock().now().nanoseconds
@@ -170,6 +184,10 @@ class CamNode(Node):
         response.jerk = as_float64(state.jerk)
         response.pressure_angle = as_float64(state.pressure_angle)
         response.radius_of_curvature = as_float64(state.radius_of_curvature)
+        if state.dynamics is not None:  # no dynamics: the arrays stay empty
+            response.contact_force = as_float64(state.dynamics.contact_force)
+            response.camshaft_torque = as_float64(state.dynamics.camshaft_torque)
+            response.contact_stress = as_float64(state.dynamics.contact_stress)
         response.success, response.message = True, f'{angles.size} angles evaluated'
         return response
 
@@ -220,7 +238,7 @@ class CamNode(Node):
 
     def _recorded_topics(self) -> list[TopicSpec]:
         publishers = (self._profile_pub, self._pressure_pub, self._markers_pub, self._joint_pub,
-                      self._extras_pub)
+                      self._extras_pub, self._dynamics_pub)
         return [TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
                 for pub in publishers] + [PARAMETER_EVENTS] + (
                     self._ecam.topics() if self._ecam else [])
@@ -245,14 +263,13 @@ class CamNode(Node):
             for theta, s, v, a in zip(profile.angle.tolist(), profile.position.tolist(),
                                       profile.velocity.tolist(), profile.acceleration.tolist())]
         self._profile_pub.publish(trajectory)
-        count = profile.angle.size
-        pressure = Float64MultiArray()
-        pressure.layout.dim = [
-            MultiArrayDimension(label='cam_angle_rad,pressure_angle_rad', size=2,
-                                stride=2 * count),
-            MultiArrayDimension(label='sample', size=count, stride=count)]
-        pressure.data = as_float64(np.concatenate([profile.angle, profile.pressure_angle]))
-        self._pressure_pub.publish(pressure)
+        self._pressure_pub.publish(labelled_rows(('cam_angle_rad', 'pressure_angle_rad'),
+                                                 (profile.angle, profile.pressure_angle)))
+        forces = profile.dynamics  # none: an empty array, so a previous design's is not kept
+        self._dynamics_pub.publish(labelled_rows(
+            DYNAMICS_ROWS, () if forces is None else (
+                profile.angle, forces.contact_force, forces.camshaft_torque,
+                forces.contact_stress)))
         self._markers_pub.publish(self._markers(stamp))
 
     def _markers(self, stamp: Any) -> MarkerArray:
@@ -288,6 +305,10 @@ class CamNode(Node):
                             velocity=[design.config.cam_speed, float(state.velocity[0])])
         joints.header.stamp = stamp
         joints.header.frame_id = CAM_FRAME
+        if state.dynamics is not None:  # camshaft torque about +z; normal contact force
+            torque = float(state.dynamics.camshaft_torque[0])
+            joints.effort = [-torque if design.clockwise else torque,
+                             float(state.dynamics.contact_force[0])]
         self._joint_pub.publish(joints)
         extras = Vector3Stamped()
         extras.header = joints.header
