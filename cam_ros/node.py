@@ -36,11 +36,15 @@ from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, c
                           parse_parameters)
 from cam_ros.core.config import PARAMETERS, SPECS
 from cam_ros.ecam import MasterFollower
+from cam_ros.middleware import use_shipped_profile
+from cam_ros.joints import joint_coordinates
 from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
                                      parameter_sources, ParameterSources, parse_command_line,
                                      plain, USAGE)
 from cam_ros.paths import default_config_path
-from cam_ros.recording import PARAMETER_EVENTS, Recorder, TopicSpec
+from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
+                               params_file, Recorder, TopicSpec)
+from cam_ros.recording.parameters import NODE_KEY
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
@@ -222,9 +226,12 @@ class CamNode(Node):
         config = self.design.config
         stamp = time.strftime('%Y%m%d-%H%M%S')
         path = Path(config.recording_directory) / f'{self.get_name()}_{stamp}.mcap'
-        attachments = {'cam_config.yaml': self._params_file.read_text()} if (
-            self._params_file and self._params_file.exists()) else {}
-        description = {'params_file': str(self._params_file or ''),
+        name = self.get_fully_qualified_name()
+        attachments = {PARAMETERS_ATTACHMENT: params_file(
+            config.parameters, f'Parameters of {name} in force when recording {path.name} began')}
+        if self._params_file and self._params_file.exists():
+            attachments[CONFIG_ATTACHMENT] = self._params_file.read_text()
+        description = {'params_file': str(self._params_file or ''), NODE_KEY: name,
                        'design': self.design.summary()}
         try:
             self._recorder = Recorder(self, path, self._recorded_topics(),
@@ -257,9 +264,10 @@ class CamNode(Node):
         trajectory.header.stamp = stamp
         trajectory.header.frame_id = CAM_FRAME
         omega = design.config.cam_speed
+        _, offset, sign = joint_coordinates(design)
         trajectory.points = [
-            JointTrajectoryPoint(positions=[s], velocities=[v], accelerations=[a],
-                                 time_from_start=duration(theta / omega))
+            JointTrajectoryPoint(positions=[offset + sign * s], velocities=[sign * v],
+                                 accelerations=[sign * a], time_from_start=duration(theta / omega))
             for theta, s, v, a in zip(profile.angle.tolist(), profile.position.tolist(),
                                       profile.velocity.tolist(), profile.acceleration.tolist())]
         self._profile_pub.publish(trajectory)
@@ -300,9 +308,11 @@ class CamNode(Node):
                           2 * math.pi)
         state = design.evaluate(np.array([theta]))
         stamp = now.to_msg()
-        joints = JointState(name=['cam', 'follower'],
-                            position=[theta, float(state.position[0])],
-                            velocity=[design.config.cam_speed, float(state.velocity[0])])
+        sigma, offset, sign = joint_coordinates(design)
+        joints = JointState(
+            name=['cam', 'follower'],
+            position=[sigma * theta, offset + sign * float(state.position[0])],
+            velocity=[sigma * design.config.cam_speed, sign * float(state.velocity[0])])
         joints.header.stamp = stamp
         joints.header.frame_id = CAM_FRAME
         if state.dynamics is not None:  # camshaft torque about +z; normal contact force
@@ -345,6 +355,7 @@ def main(args: Sequence[str] | None = None) -> int:
     if command.user_args:
         return _invalid(f'unrecognized arguments: {" ".join(command.user_args)} '
                         '(see cam_node --help)')
+    use_shipped_profile()
     try:
         rclpy.init(args=command.ros_args)
     except (RCLError, RuntimeError, ValueError) as err:  # a bad remapping or log argument

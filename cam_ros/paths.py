@@ -21,3 +21,8 @@ def config_dir() -> Path:
 def default_config_path() -> Path:
     """Return the embedded default design, config/default.yaml."""
     return config_dir() / 'default.yaml'
+
+
+def fastdds_profile_path() -> Path:
+    """Return the shipped Fast DDS profile, config/fastdds.xml (see cam_ros.middleware)."""
+    return config_dir() / 'fastdds.xml'

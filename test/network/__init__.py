@@ -1,0 +1,1 @@
+"""Network tests: nodes and clients on two hosts (namespaces), loss, partitions, load."""
