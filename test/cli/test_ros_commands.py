@@ -78,7 +78,21 @@ def test_call_without_a_service_exits_1_after_the_timeout(ros_domain, capsys):
     run = run_cli(capsys, 'call', '1', '--service', '/nobody/evaluate',
                   '--timeout', SHORT_TIMEOUT_S)
     assert run.code == 1 and run.out == ''
-    assert run.err == 'cam_ros call: service /nobody/evaluate is not available within 0.5 s\n'
+    assert run.err == ('cam_ros call: service /nobody/evaluate is not available within 0.5 s '
+                       f'(ROS_DOMAIN_ID={ros_domain}; similar services available: none)\n')
+
+
+def test_not_available_names_the_domain_and_similar_names(cam_node, ros_domain, capsys):
+    run = run_cli(capsys, 'call', '1', '--service', '/cma/evaluate', '--timeout', 2.0)
+    assert run.code == 1 and run.out == ''
+    assert run.err.startswith('cam_ros call: service /cma/evaluate is not available within 2 s '
+                              f'(ROS_DOMAIN_ID={ros_domain}; similar services available: ')
+    assert '/cam/evaluate' in run.err and len(run.err.splitlines()) == 1
+    run = run_cli(capsys, 'echo', '/cam/joint_state', '--timeout', 2.0)
+    assert run.code == 1 and run.out == ''
+    assert run.err.startswith('cam_ros echo: no publisher of /cam/joint_state within 2 s '
+                              f'(ROS_DOMAIN_ID={ros_domain}; similar topics available: ')
+    assert '/cam/joint_states' in run.err
 
 
 @pytest.mark.parametrize('argv, fragment', [
@@ -128,10 +142,11 @@ def test_echo_csv_flattens_streamed_messages(cam_node, capsys):
                        'velocity[0]', 'velocity[1]']
     values = np.array(rows[1:], dtype=float)
     assert values.shape == (3, 6)
-    # Each message pairs a cam angle with the follower position there.
-    np.testing.assert_allclose(values[:, 3], cam_node.evaluate(values[:, 2]).position,
+    # Each message pairs the cam joint (-theta: seed 000 turns clockwise, about -z) with the
+    # follower position at theta.
+    np.testing.assert_allclose(values[:, 3], cam_node.evaluate(-values[:, 2]).position,
                                rtol=1e-12, atol=1e-15)
-    assert np.all(values[:, 4] == cam_node.config.cam_speed)
+    assert np.all(values[:, 4] == -cam_node.config.cam_speed)
 
     # Without a count, the stream ends at the timeout.
     started = time.monotonic()
@@ -146,4 +161,5 @@ def test_echo_csv_flattens_streamed_messages(cam_node, capsys):
 def test_echo_gives_up_after_the_timeout_when_nobody_publishes(ros_domain, capsys):
     run = run_cli(capsys, 'echo', '/nobody/here', '--timeout', SHORT_TIMEOUT_S)
     assert run.code == 1 and run.out == ''
-    assert run.err == 'cam_ros echo: no publisher of /nobody/here within 0.5 s\n'
+    assert run.err == ('cam_ros echo: no publisher of /nobody/here within 0.5 s '
+                       f'(ROS_DOMAIN_ID={ros_domain}; similar topics available: none)\n')

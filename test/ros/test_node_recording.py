@@ -2,16 +2,21 @@
 from __future__ import annotations
 
 import json
+import shutil
 import signal
+import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+import pytest
+from cam_ros_interfaces.srv import EvaluateCam
 from conftest import CONFIG_DIR
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool
 
+from cam_ros.cli import main as cam_ros
 from cam_ros.core import build_design, load_config
 from cam_ros.recording import open_recording
 
@@ -20,6 +25,7 @@ CALL_TIMEOUT_S = 10.0
 RUN_S = 1.5
 STATE_RATE_HZ = 200.0
 FLUSH_PERIOD_S = 1.0  # the Recorder's default flush_period
+ANGLES = np.radians([0.0, 100.0, 130.0, 150.0, 250.0, 330.0])
 NODE_TOPICS = {'/cam/profile', '/cam/pressure_angle', '/cam/markers', '/cam/joint_states',
                '/cam/state_extras', '/parameter_events'}
 
@@ -72,7 +78,7 @@ def test_recording_from_start_up_opens_with_rosbags_and_mcap_ros2(start_cam_node
     from mcap_ros2.reader import read_ros2_messages
     states = [m.ros_msg for m in read_ros2_messages(str(path), topics=['/cam/joint_states'])]
     assert len(states) == joints.count
-    angles = np.array([s.position[0] for s in states])
+    angles = -np.array([s.position[0] for s in states])  # a clockwise cam's joint is -theta
     np.testing.assert_allclose([s.position[1] for s in states],
                                design.evaluate(angles).position, atol=1e-12)
 
@@ -119,3 +125,99 @@ def test_sigkill_while_recording_loses_at_most_the_open_chunk(start_cam_node, ex
     # The recorder flushes its open chunk every FLUSH_PERIOD_S: only that chunk may be lost.
     lost = len(witnessed) - len(kept)
     assert 0 <= lost <= STATE_RATE_HZ * FLUSH_PERIOD_S * 1.5 + 10, (lost, len(witnessed))
+
+
+def seed_000_in_mm(folder: Path) -> Path:
+    """Write seed 000 with its lengths in mm (base radius 40 mm), as a user's file would be."""
+    text = (DEFAULT.read_text().replace('length_unit: cm', 'length_unit: mm')
+            .replace('base_radius: 4.0', 'base_radius: 40.0')
+            .replace('roller_radius: 1.0', 'roller_radius: 10.0')
+            .replace('offset: 0.5', 'offset: 5.0')
+            .replace('[0.0, 0.0, 2.0, 2.0]', '[0.0, 0.0, 20.0, 20.0]')
+            .replace('[0.0, 2.0, 2.0, 0.0]', '[0.0, 20.0, 20.0, 0.0]')
+            .replace('min_radius_of_curvature: 0.5', 'min_radius_of_curvature: 5.0'))
+    path = folder / 'seed_000_mm.yaml'
+    path.write_text(text)
+    return path
+
+
+def cli(capsys, *argv) -> str:
+    """Run `cam_ros` in this process; return what it printed, failing on a non-zero exit."""
+    code = cam_ros([str(arg) for arg in argv])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    return out
+
+
+def test_recording_carries_the_parameters_in_force_and_their_changes(start_cam_node, tmp_path,
+                                                                     capsys):
+    config = seed_000_in_mm(tmp_path)
+    folder = tmp_path / 'runs'
+    _, client = start_cam_node(config, '-p', f'recording.directory:={folder}',
+                               '-p', 'limits.pressure_angle_deg:=35.0')
+    # A run-time change before the recording starts: base radius 40 -> 55 mm.
+    cli(capsys, 'param', 'set', 'follower.base_radius', '55.0', '--timeout', CALL_TIMEOUT_S)
+    cli(capsys, 'record', 'on', '--timeout', CALL_TIMEOUT_S)
+    served = client.call(EvaluateCam.Request(angles=ANGLES.tolist()), timeout_sec=CALL_TIMEOUT_S)
+    assert served.success, served.message
+    cli(capsys, 'param', 'set', 'follower.roller_radius', '12.0', '--timeout', CALL_TIMEOUT_S)
+    time.sleep(0.3)
+    cli(capsys, 'record', 'off', '--timeout', CALL_TIMEOUT_S)
+    path = only_file(folder)
+
+    recording = open_recording(path)
+    assert recording.attachments['cam_config.yaml'] == config.read_text()  # as started
+    in_force = tmp_path / 'in_force.yaml'
+    in_force.write_text(recording.attachments['cam_parameters.yaml'])
+    design = build_design(load_config(in_force))  # the CLI's loader
+    assert design.config.length_unit == 'mm'
+    assert design.follower.base_radius == pytest.approx(0.055, abs=1e-15)
+    assert design.config.pressure_angle_limit == pytest.approx(np.radians(35.0))  # the -p
+    state = design.evaluate(ANGLES)
+    for field in ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
+                  'radius_of_curvature'):
+        np.testing.assert_array_equal(getattr(served, field), getattr(state, field), field)
+
+    data = json.loads(cli(capsys, 'info', path, '--json'))
+    changes = [c for c in data['parameter_changes'] if c['kind'] == 'changed']
+    assert [(c['node'], c['name'], c['old'], c['new']) for c in changes] == [
+        ('/cam', 'follower.roller_radius', 10.0, 12.0)]
+    assert data['start_ns'] <= changes[0]['time_ns'] <= data['end_ns']
+    text = cli(capsys, 'info', path)
+    assert '/cam follower.roller_radius: 10.0 -> 12.0' in text
+    assert 'cam_parameters.yaml' in text and 'Description node:' in text
+
+
+def test_a_killed_node_s_recording_is_recovered_for_rosbags(start_cam_node, tmp_path):
+    from rosbags.highlevel import AnyReader
+
+    folder = tmp_path / 'runs'
+    process, _ = start_cam_node(DEFAULT, '-p', 'recording.enabled:=true',
+                                '-p', f'recording.directory:={folder}')
+    time.sleep(RUN_S)
+    process.stop(signal.SIGKILL)
+    killed = only_file(folder)
+    kept = shutil.copyfile(killed, tmp_path / 'kept.mcap')
+    survived = open_recording(killed)
+    assert not survived.complete
+    with pytest.raises(Exception):
+        AnyReader([killed]).open()
+
+    recovered = folder / 'recovered.mcap'
+    result = subprocess.run([shutil.which('cam_ros', path=str(Path(sys.executable).parent)),
+                             'recover', str(killed), '-o', str(recovered)],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    count = survived.message_count
+    assert result.stdout.startswith(f'recovered {count} messages on {len(survived.topics)} '
+                                    f'topics into {recovered} (')
+    assert killed.read_bytes() == kept.read_bytes()  # the input is left alone
+    with AnyReader([recovered]) as reader:
+        assert reader.message_count == count
+        states = [reader.deserialize(raw, conn.msgtype) for conn, _, raw in reader.messages(
+            connections=[c for c in reader.connections if c.topic == '/cam/joint_states'])]
+    assert len(states) == survived.topics['/cam/joint_states'].count > 0
+    design = build_design(load_config(DEFAULT))
+    theta = -np.array([m.position[0] for m in states])  # clockwise: the joint is -theta
+    np.testing.assert_allclose([m.position[1] for m in states], design.evaluate(theta).position,
+                               atol=1e-12)
