@@ -59,14 +59,18 @@ class MasterLink:
         with self.inbox[key].arrived:
             return list(self.inbox[key].messages)
 
-    def connect(self, process, stamp_ns: int = 1) -> None:
-        """Send probes (position 0, at rest) until the node answers one: every path matched."""
+    def connect(self, process, stamp_ns: int = 1, advance: bool = True) -> None:
+        """
+        Send probes (position 0, at rest) until the node answers one: every path matched.
+
+        Probes carry stamp_ns, counting up from it with advance (else the node takes only one).
+        """
         deadline = time.monotonic() + WAIT_S
         while not (self.messages('commands') and self.messages('joints')):
             assert process.process.poll() is None, process.log()
             assert time.monotonic() < deadline, f'no commands from the node:\n{process.log()}'
             self.publisher.publish(master_message(stamp_ns, velocity=(0.0,)))
-            stamp_ns += 1
+            stamp_ns += advance
             time.sleep(0.2)
         time.sleep(0.3)  # let the last probes' answers in
 
