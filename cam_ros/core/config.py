@@ -269,13 +269,14 @@ def _check_range(spec: ParameterSpec, value: Any) -> None:
     if spec.choices and value not in spec.choices:
         raise InvalidParameter(spec.name, value, 'must be one of ' + ', '.join(spec.choices))
     items = value if isinstance(value, tuple) else (value,)
+    written = list(value) if isinstance(value, tuple) else value  # quoted as the file gives it
     for item in items:
         if isinstance(item, float) and not math.isfinite(item):
-            raise InvalidParameter(spec.name, value, 'must be finite')
+            raise InvalidParameter(spec.name, written, 'must be finite')
         if spec.minimum is not None and isinstance(item, (int, float)) and item < spec.minimum:
-            raise InvalidParameter(spec.name, value, f'must be >= {spec.minimum:g}')
+            raise InvalidParameter(spec.name, written, f'must be >= {spec.minimum:g}')
         if spec.maximum is not None and isinstance(item, (int, float)) and item > spec.maximum:
-            raise InvalidParameter(spec.name, value, f'must be <= {spec.maximum:g}')
+            raise InvalidParameter(spec.name, written, f'must be <= {spec.maximum:g}')
 
 
 def check_parameter(name: str, value: Any) -> Any:
@@ -365,7 +366,8 @@ def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool
             value, (limit, text) = values[spec.name], bounds[spec.unit]
             items = value if isinstance(value, tuple) else (value,)
             if any(abs(item) > limit for item in items):
-                raise InvalidParameter(spec.name, value, f'must not exceed {text} in magnitude')
+                raise InvalidParameter(spec.name, list(items) if items is value else value,
+                                       f'must not exceed {text} in magnitude')
 
 
 def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:

@@ -14,9 +14,9 @@ from typing import Any, Callable, Mapping
 import numpy as np
 import numpy.typing as npt
 
-from .config import CamConfig, MotionConfig
+from .config import LENGTH_UNITS, CamConfig, MotionConfig
 from .dynamics import DynamicsValues, FollowerDynamics
-from .errors import InvalidParameter
+from .errors import InvalidParameter, quote
 from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, OscillatingRoller,
                        TranslatingFlat, TranslatingRoller, cam_geometry, check_geometry,
                        contact_measures)
@@ -33,6 +33,15 @@ REST_TO_REST = ((0.0, 0, 0.0), (0.0, 1, 0.0), (0.0, 2, 0.0),
 SEGMENT_FIELDS = {'start': 'motion.start_deg', 'end': 'motion.end_deg',
                   's_start': 'motion.start_position', 's_end': 'motion.end_position',
                   'law': 'motion.laws'}
+#: The config array that gives each law parameter (via points, SCCA fractions, table points).
+LAW_FIELDS = {'u_via': 'motion.via_deg', 'y_via': 'motion.via_position',
+              'conditions': 'motion.via_deg', 'b': 'motion.scca_fractions',
+              'c': 'motion.scca_fractions', 'd': 'motion.scca_fractions',
+              'b + c + d': 'motion.scca_fractions', 'u': 'motion.table_u', 'y': 'motion.table_y'}
+#: A number as the core quotes it (repr, :g or pi), and one or a pair of them with an SI unit.
+NUMBER = r'-?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|pi'
+SI_QUANTITY = re.compile(
+    rf'(?<![\w.])((?:{NUMBER})|\((?:{NUMBER}), (?:{NUMBER})\)) (m|rad)(?![\w/^])')
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,34 +177,68 @@ def build_follower(config: CamConfig) -> Follower:
     except InvalidParameter as err:
         name = f'follower.{err.parameter}'
         written = config.parameters.get(name, err.value)
-        raise InvalidParameter(name, written, f'{err.rule} (the file gives {config.length_unit}; '
-                                              f'{err.value!r} m in SI)') from err
+        raise InvalidParameter(name, written, in_file_units(err.rule, config)) from err
 
 
-def build_law(motion: MotionConfig, index: int) -> MotionLaw:
-    """Build segment index's law with the parameters the config gives for it."""
+def in_file_units(text: str, config: CamConfig) -> str:
+    """Restate the lengths (m) and angles (rad) a core message quotes in the file's units."""
+    metre, unit = LENGTH_UNITS[config.length_unit], config.length_unit
+
+    def restate(match: re.Match) -> str:
+        numbers = [math.pi if n == 'pi' else float(n) for n in re.findall(NUMBER, match.group(1))]
+        angle = match.group(2) == 'rad'
+        shown = ', '.join(f'{math.degrees(n) if angle else n / metre:g}' for n in numbers)
+        if match.group(1).startswith('('):
+            shown = f'({shown})'
+        return f'{shown} {"deg" if angle else unit}'
+
+    return SI_QUANTITY.sub(restate, text.replace('(m)', f'({unit})'))
+
+
+def build_law(motion: MotionConfig, index: int, written: Mapping[str, Any]) -> MotionLaw:
+    """Build segment index's law with the parameters the config gives for it.
+
+    Errors name the config entry (motion.via_deg[i], motion.scca_fractions, ...) as written.
+    """
     name = motion.laws[index]
     params: dict[str, object] = {}
-    vias = [(angle, position) for segment, angle, position
-            in zip(motion.via_segment, motion.via_angle, motion.via_position) if segment == index]
+    vias = [number for number, segment in enumerate(motion.via_segment) if segment == index]
+    if vias and name not in ('via_point', 'polynomial'):
+        raise InvalidParameter(f'motion.via_segment[{vias[0]}]', index,
+                               f'law {name} takes no via points (via_point and polynomial do)')
     start, span = motion.start[index], motion.end[index] - motion.start[index]
     stroke = motion.end_position[index] - motion.start_position[index]
-    normalised = [((angle - start) / span, (position - motion.start_position[index]) / stroke)
-                  for angle, position in vias] if span and stroke else []
-    if vias and name not in ('via_point', 'polynomial'):
-        raise InvalidParameter(f'motion.via_segment[{index}]', index,
-                               f'law {name} takes no via points (via_point and polynomial do)')
+    for number in vias:
+        if not 0.0 < motion.via_angle[number] - start < span:
+            raise InvalidParameter(
+                f'motion.via_deg[{number}]', written['motion.via_deg'][number],
+                f'must lie strictly inside segment {index}, between motion.start_deg[{index}] = '
+                f'{written["motion.start_deg"][index]!r} and motion.end_deg[{index}] = '
+                f'{written["motion.end_deg"][index]!r}')
     if name == 'via_point':
-        if len(normalised) != 1:
+        if len(vias) != 1:
             raise InvalidParameter(f'motion.laws[{index}]', name,
                                    f'needs exactly one via point (motion.via_segment has '
                                    f'{len(vias)} entries equal to {index})')
-        params = {'u_via': normalised[0][0], 'y_via': normalised[0][1]}
+        rise = (motion.via_position[vias[0]] - motion.start_position[index]) / stroke
+        if not 0.0 < rise < 1.0:  # also catches a zero stroke (nan)
+            raise InvalidParameter(
+                f'motion.via_position[{vias[0]}]', written['motion.via_position'][vias[0]],
+                f'must lie strictly between motion.start_position[{index}] = '
+                f'{written["motion.start_position"][index]!r} and motion.end_position[{index}]'
+                f' = {written["motion.end_position"][index]!r} (the via_point law rises '
+                'through it without stopping)')
+        params = {'u_via': (motion.via_angle[vias[0]] - start) / span, 'y_via': rise}
     elif name == 'polynomial':
-        params = {'conditions': [*REST_TO_REST, *((u, 0, y) for u, y in normalised)]}
+        params = {'conditions': [*REST_TO_REST, *(
+            ((motion.via_angle[number] - start) / span, 0,
+             (motion.via_position[number] - motion.start_position[index]) / stroke)
+            for number in vias if stroke)]}
     elif name == 'scca':
-        b, c, d = (motion.scca_fractions + (math.nan,) * 3)[:3]
-        params = {'b': b, 'c': c, 'd': d}
+        if len(motion.scca_fractions) != 3:
+            raise InvalidParameter('motion.scca_fractions', list(motion.scca_fractions),
+                                   f'needs 3 entries b, c, d for the scca law of segment {index}')
+        params = dict(zip('bcd', motion.scca_fractions))
     elif name == 'table':
         params = {'u': motion.table_u, 'y': motion.table_y}
     return make_law(name, **params)
@@ -210,12 +253,18 @@ def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionPro
     segments = []
     for index in range(len(motion.laws)):
         try:
-            law = build_law(motion, index)
+            law = build_law(motion, index, written)
         except InvalidParameter as err:
             if err.parameter.startswith('motion.'):
                 raise
-            raise InvalidParameter(f'motion.laws[{index}] ({motion.laws[index]}): '
-                                   f'{err.parameter}', err.value, err.rule) from err
+            field = LAW_FIELDS.get(err.parameter)
+            if field is None:
+                raise InvalidParameter(f'motion.laws[{index}] ({motion.laws[index]}): '
+                                       f'{err.parameter}', err.value, err.rule) from err
+            what = '' if err.parameter in ('u', 'y', 'conditions') else (
+                f'{err.parameter} = {quote(err.value)}: ')
+            raise InvalidParameter(field, list(written.get(field, ())), f'{what}{err.rule} '
+                                   f'({motion.laws[index]} law of segment {index})') from err
         segments.append(Segment(law, motion.start[index], motion.end[index],
                                 motion.start_position[index], motion.end_position[index]))
     try:
@@ -225,20 +274,29 @@ def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionPro
 
 
 def _in_config_terms(err: InvalidParameter, written: Mapping[str, Any]) -> InvalidParameter:
-    """Restate a program error ('segments[2].end') with the config's names and values."""
-    def rename(match: re.Match) -> str:
-        field = SEGMENT_FIELDS.get(match.group(2))
-        return f'{field}[{match.group(1)}]' if field else match.group(0)
+    """Restate a program error ('segments[2].end') with the config's names and written values.
 
-    pattern = r'segments\[(\d+)\]\.(\w+)'
-    match = re.fullmatch(pattern, err.parameter)
+    Values the rule quotes in SI (segments[1].end = 1.5707963267948966 rad) become the entries
+    as the file gives them (motion.end_deg[1] = 90.0).
+    """
+    def entry(match: re.Match) -> str:
+        field, number = SEGMENT_FIELDS.get(match.group(2)), int(match.group(1))
+        if field is None:
+            return match.group(0)
+        values = written.get(field)
+        value = values[number] if isinstance(values, (list, tuple)) else None
+        quoted = f' = {value!r}' if match.group(3) and value is not None else match.group(3)
+        return f'{field}[{number}]{quoted or ""}'
+
+    match = re.fullmatch(r'segments\[(\d+)\]\.(\w+)', err.parameter)
     if not match or match.group(2) not in SEGMENT_FIELDS:
         return InvalidParameter(f'motion ({err.parameter})', err.value, err.rule)
     field, index = SEGMENT_FIELDS[match.group(2)], int(match.group(1))
     values = written.get(field)
     value = values[index] if isinstance(values, (list, tuple)) else err.value
-    return InvalidParameter(f'{field}[{index}]', value,
-                            f'{re.sub(pattern, rename, err.rule)} [in SI: {err.value!r}]')
+    rule = re.sub(r'(?<![\w.])(s_start|start) = ', rf'segments[{index}].\1 = ', err.rule)
+    rule = re.sub(r'segments\[(\d+)\]\.(\w+)( = [-+\w.]+(?: rad)?)?', entry, rule)
+    return InvalidParameter(f'{field}[{index}]', value, rule)
 
 
 def build_design(config: CamConfig) -> CamDesign:
@@ -249,17 +307,25 @@ def build_design(config: CamConfig) -> CamDesign:
     try:
         design.geometry()  # the follower must be able to follow the motion everywhere
     except InvalidParameter as err:
-        raise _at_cam_angle(err, program) from err
+        raise _at_cam_angle(err, program, config) from err
     return design
 
 
-def _at_cam_angle(err: InvalidParameter, program: MotionProgram) -> InvalidParameter:
-    """Restate a geometry error at a check sample ('s[2812]') as the segment and cam angle."""
+def _at_cam_angle(err: InvalidParameter, program: MotionProgram,
+                  config: CamConfig) -> InvalidParameter:
+    """Restate a geometry error at a check sample ('s[2812]') as the segment and cam angle.
+
+    A follower position s is quoted in the file's units (its length_unit, or deg of arm angle).
+    """
     match = re.fullmatch(r'(\w+)\[(\d+)\]', err.parameter)
     if not match:
         return err
     angle = int(match.group(2)) * TWO_PI / CHECK_SAMPLES
     index = program.segment_at(angle)
+    value = err.value
+    if match.group(1) == 's' and isinstance(value, float):
+        oscillating = config.follower.type.startswith('oscillating')
+        value = math.degrees(value) if oscillating else value / LENGTH_UNITS[config.length_unit]
     return InvalidParameter(f'motion.laws[{index}] ({program.segments[index].law.name}): '
-                            f'{match.group(1)} at {math.degrees(angle):.2f} deg', err.value,
-                            err.rule)
+                            f'{match.group(1)} at {math.degrees(angle):.2f} deg', value,
+                            in_file_units(err.rule, config))

@@ -25,6 +25,13 @@ from cam_ros.cli import main
 from cam_ros.core import InvalidParameter, build_design, load_config
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
+DEFAULT_TEXT = DEFAULT.read_text()
+FOLLOWER_LINE = DEFAULT_TEXT.splitlines().index('    follower:') + 1
+ROLLER_LINE = DEFAULT_TEXT.splitlines().index('      roller_radius: 1.0') + 1
+START_DEG_LINE = DEFAULT_TEXT.splitlines().index('      start_deg: [0.0, 90.0, 180.0, 240.0]') + 1
+#: Longest one-line error of any case: parameter, a value quoted in at most 100 characters
+#: (plus its size), and the rule.
+MESSAGE_LIMIT = 400
 SUBPROCESS_TIMEOUT_S = 60.0
 SUBPROCESS_WORKERS = 4
 #: Without --heavy, every SUBPROCESS_STRIDE-th case also runs as a subprocess.
@@ -71,6 +78,23 @@ def rename(section: str, old: str, new: str) -> Edit:
 def text(content: str) -> Edit:
     """Replace the whole file."""
     return lambda params: content
+
+
+def inserted(after: str, lines: str) -> Edit:
+    """Insert lines into the default file's text after the line after."""
+    assert after in DEFAULT_TEXT, after
+    return text(DEFAULT_TEXT.replace(after, after + lines))
+
+
+def alias_bomb(indent: str, levels: int = 8) -> str:
+    """Return lines of nested anchors &a0..&a{levels}, each a list of nine aliases of the last.
+
+    Expanded, the last one holds 9**(levels + 1) strings (387 million for 8 levels).
+    """
+    rows = [f'{indent}lol0: &a0 [lol, lol, lol, lol, lol, lol, lol, lol, lol]']
+    rows += [f'{indent}lol{i}: &a{i} [{", ".join([f"*a{i - 1}"] * 9)}]'
+             for i in range(1, levels + 1)]
+    return '\n'.join(rows) + '\n'
 
 
 def both(*edits: Edit) -> Edit:
@@ -137,74 +161,93 @@ CASES = [
     # Radii and offsets.
     Case('negative_radius', change(follower__roller_radius=-1.0), 'follower.roller_radius',
          '-1.0', 'must be >= 0'),
+    # Rules quote lengths in the file's unit (cm here), never in SI.
     Case('zero_base_radius', change(follower__base_radius=0.0), 'follower.base_radius', '0.0',
-         'must be > 0 (m)'),
+         'must be > 0 (cm)'),
     Case('zero_roller_radius', change(follower__roller_radius=0.0), 'follower.roller_radius',
-         '0.0', 'must be > 0 (m)'),
+         '0.0', 'must be > 0 (cm)'),
     Case('offset_at_prime_circle', change(follower__offset=5.0), 'follower.offset', '5.0',
-         'needs |offset| < base_radius + roller_radius = 0.05 m'),
+         'needs |offset| < base_radius + roller_radius = 5 cm'),
     Case('offset_beyond_prime_circle', change(follower__offset=-6.0), 'follower.offset', '-6.0',
          'needs |offset| < base_radius + roller_radius'),
     # Oscillating followers that cannot reach the cam.
     Case('roller_arm_cannot_reach', OSCILLATING_ROLLER, 'follower.base_radius', '4.0',
-         'must lie in (|pivot_distance - arm_length|, pivot_distance + arm_length) = '
-         '(0.08, 0.12) m so that the roller reaches the cam'),
+         'base_radius + roller_radius = 5 cm must lie in (|pivot_distance - arm_length|, '
+         'pivot_distance + arm_length) = (8, 12) cm so that the roller reaches the cam'),
     Case('roller_arm_missing', change(follower__type='oscillating_roller',
                                       follower__pivot_distance=9.0),
-         'follower.arm_length', '0.0', 'must be > 0 (m)'),
+         'follower.arm_length', '0.0', 'must be > 0 (cm)'),
     Case('flat_face_cannot_touch', change(follower__type='oscillating_flat',
                                           follower__pivot_distance=4.0,
                                           follower__face_offset=1.0),
-         'follower.face_offset', '1.0', 'so that the face touches the base circle'),
+         'follower.face_offset', '1.0', 'base_radius + face_offset = 5 cm must lie in (0, '
+         'pivot_distance = 4 cm) so that the face touches the base circle'),
     # Segments: gaps, overlaps, total, zero span, position mismatch, moving dwell, lengths.
+    # Segment rules quote the other entries as written (deg), never in rad.
     Case('gap', change_item('motion__start_deg', 2, 185.0), 'motion.start_deg[2]', '185.0',
-         'leaves a gap of 5 deg'),
+         'must equal motion.end_deg[1] = 180.0 (leaves a gap of 5 deg)'),
     Case('overlap', change_item('motion__start_deg', 1, 85.0), 'motion.start_deg[1]', '85.0',
-         'leaves an overlap of 5 deg'),
+         'must equal motion.end_deg[0] = 90.0 (leaves an overlap of 5 deg)'),
     Case('total_short', change_item('motion__end_deg', 3, 350.0), 'motion.end_deg[3]', '350.0',
-         'must cover 360 deg from motion.start_deg[0]'),
+         'must cover 360 deg from motion.start_deg[0] = 0.0, not 350 deg'),
     Case('total_long', change_item('motion__end_deg', 3, 370.0), 'motion.end_deg[3]', '370.0',
          'not 370 deg'),
     Case('zero_span', change(motion__start_deg=[0.0, 90.0, 90.0, 240.0],
                              motion__end_deg=[90.0, 90.0, 240.0, 360.0]),
-         'motion.end_deg[1]', '90.0', 'must exceed start'),
+         'motion.end_deg[1]', '90.0', 'must exceed motion.start_deg[1] = 90.0'),
     Case('position_jump', change_item('motion__start_position', 3, 2.5),
-         'motion.start_position[3]', '2.5', 'must equal motion.end_position[2]'),
+         'motion.start_position[3]', '2.5', 'must equal motion.end_position[2] = 2.0: the '
+         'follower cannot jump'),
     Case('wrap_jump', change_item('motion__end_position', 3, 0.5), 'motion.start_position[0]',
          '0.0', '(the wrap joint 360 -> 0 deg): the follower cannot jump'),
     Case('moving_dwell', change_item('motion__end_position', 2, 2.5), 'motion.end_position[2]',
-         '2.5', 'a dwell must end where it starts'),
+         '2.5', 'a dwell must end where it starts (motion.start_position[2] = 2.0)'),
     Case('arrays_of_two_lengths', change(motion__end_deg=[90.0, 180.0, 360.0]), 'motion.end_deg',
          '[90.0, 180.0, 360.0]', 'must have 4 entries, one per entry of motion.laws'),
     Case('no_segments', change(motion__laws=[], motion__start_deg=[], motion__end_deg=[],
                                motion__start_position=[], motion__end_position=[]),
          'motion (segments)', '[]', 'must hold at least one segment'),
-    # Laws that need parameters.
+    # Laws that need parameters: errors name the config entries, not the law's own names.
     Case('scca_without_fractions', change_item('motion__laws', 1, 'scca'),
-         'motion.laws[1] (scca): b', 'nan', 'must be a finite number'),
+         'motion.scca_fractions', '[]', 'needs 3 entries b, c, d for the scca law of segment 1'),
     Case('scca_fractions_sum', both(change_item('motion__laws', 1, 'scca'),
                                     change(motion__scca_fractions=[0.5, 0.5, 0.5])),
-         'motion.laws[1] (scca): b + c + d', '1.5', 'the fractions must add up to 1'),
+         'motion.scca_fractions', '[0.5, 0.5, 0.5]',
+         'b + c + d = 1.5: the fractions must add up to 1 (scca law of segment 1)'),
+    Case('scca_fraction_negative', both(change_item('motion__laws', 1, 'scca'),
+                                        change(motion__scca_fractions=[-0.5, 1.0, 0.5])),
+         'motion.scca_fractions', '[-0.5, 1.0, 0.5]', 'b = -0.5: must be a fraction in [0, 1]'),
     Case('via_point_without_point', change_item('motion__laws', 1, 'via_point'),
          'motion.laws[1]', "'via_point'", 'needs exactly one via point'),
     Case('via_point_outside_segment', both(
         change_item('motion__laws', 1, 'via_point'),
         change(motion__via_segment=[1], motion__via_deg=[300.0], motion__via_position=[1.0])),
-        'motion.laws[1] (via_point): u_via', '2.33', 'must lie strictly between 0 and 1'),
+        'motion.via_deg[0]', '300.0', 'must lie strictly inside segment 1, between '
+        'motion.start_deg[1] = 90.0 and motion.end_deg[1] = 180.0'),
+    Case('via_point_above_the_rise', both(
+        change_item('motion__laws', 1, 'via_point'),
+        change(motion__via_segment=[1], motion__via_deg=[135.0], motion__via_position=[2.5])),
+        'motion.via_position[0]', '2.5', 'must lie strictly between motion.start_position[1] = '
+        '0.0 and motion.end_position[1] = 2.0'),
+    Case('polynomial_via_outside_segment', both(
+        change_item('motion__laws', 1, 'polynomial'),
+        change(motion__via_segment=[1], motion__via_deg=[45.0], motion__via_position=[1.0])),
+        'motion.via_deg[0]', '45.0', 'must lie strictly inside segment 1'),
     Case('via_point_on_a_dwell', change(motion__via_segment=[2], motion__via_deg=[200.0],
                                         motion__via_position=[2.0]),
-         'motion.via_segment[2]', '2', 'law dwell takes no via points'),
+         'motion.via_segment[0]', '2', 'law dwell takes no via points'),
     Case('table_not_rising', both(change_item('motion__laws', 1, 'table'),
                                   change(motion__table_u=[0.0, 0.7, 0.5, 1.0],
                                          motion__table_y=[0.0, 0.5, 0.6, 1.0])),
-         'motion.laws[1] (table): u', '(0.0, 0.7, 0.5, 1.0)', 'must rise strictly from 0 to 1'),
+         'motion.table_u', '[0.0, 0.7, 0.5, 1.0]',
+         'must rise strictly from 0 to 1 (2 or more points) (table law of segment 1)'),
     # Non-finite numbers and ranges.
     Case('nan_radius', change(follower__base_radius=math.nan), 'follower.base_radius', 'nan',
          'must be finite'),
     Case('inf_offset', change(follower__offset=math.inf), 'follower.offset', 'inf',
          'must be finite'),
     Case('nan_in_array', change_item('motion__start_deg', 1, math.nan), 'motion.start_deg',
-         'nan', 'must be finite'),
+         '[0.0, nan, 180.0, 240.0]', 'must be finite'),
     Case('minus_inf_speed', change(cam_speed=-math.inf), 'cam_speed', '-inf', 'must be finite'),
     Case('zero_speed', change(cam_speed=0.0), 'cam_speed', '0.0', 'must be >= 1e-09'),
     Case('pressure_limit_too_big', change(limits__pressure_angle_deg=95.0),
@@ -220,9 +263,21 @@ CASES = [
                                   motion__start_position=[0.0, 0.0, 200.0, 200.0],
                                   motion__end_position=[0.0, 200.0, 200.0, 0.0]),
          'motion.start_position', '200.0', 'must not exceed 180 deg in magnitude'),
+    # d = sqrt((4 + 1)^2 - 0.5^2) = 4.97494 cm: at s = -6 the roller centre is under the cam.
     Case('roller_under_the_cam_centre', change(motion__start_position=[-6.0, -6.0, -4.0, -4.0],
                                                motion__end_position=[-6.0, -4.0, -4.0, -6.0]),
-         'motion.laws[0] (dwell): s at 0.00 deg', '-0.06', 'roller centre must stay above'),
+         'motion.laws[0] (dwell): s at 0.00 deg', '-6.0',
+         'roller centre must stay above the cam centre (s > -4.97494 cm)'),
+    Case('arm_beyond_the_pivot_line', change(
+        follower__type='oscillating_roller', follower__pivot_distance=9.0,
+        follower__arm_length=8.0, motion__start_position=[0.0, 0.0, 170.0, 170.0],
+        motion__end_position=[0.0, 170.0, 170.0, 0.0]),
+        # psi0 = acos((9^2 + 8^2 - 5^2) / (2 * 9 * 8)) = 33.557 deg; the arm reaches 180 deg at
+        # s = 146.44 deg: first on the 0.05 deg check grid at 153.75 deg, u = 63.75 / 90,
+        # s = 170 (u - sin(2 pi u) / 2 pi) = 146.551 deg (quoted in deg, not rad).
+        'motion.laws[1] (cycloidal): s at 153.75 deg', '146.551',
+        'arm angle psi0 + s must stay in (0, 180) deg; '
+        f'psi0 = {math.degrees(math.acos((81 + 64 - 25) / 144)):g} deg'),
     Case('via_segment_out_of_range', change(motion__via_segment=[4], motion__via_deg=[100.0],
                                             motion__via_position=[1.0]),
          'motion.via_segment[0]', '4', 'must be a segment index in [0, 3]'),
@@ -236,6 +291,33 @@ CASES = [
          'default.yaml', 'needs one of cam, /cam, /** with ros__parameters under it'),
     Case('parameters_not_a_mapping', text('/**:\n  ros__parameters: 5\n'), 'config',
          'default.yaml', 'needs one of cam, /cam, /**'),
+    # Careless and hostile files: refused while the file is read, before any value is built.
+    Case('duplicate_key', inserted('      roller_radius: 1.0\n', '      roller_radius: 3.5\n'),
+         'follower.roller_radius', '3.5',
+         f'is given twice, at lines {ROLLER_LINE} and {ROLLER_LINE + 1}'),
+    Case('duplicate_section', inserted('    output:\n', '      sample_count: 36\n'),
+         'output.sample_count', '360', 'is given twice'),
+    Case('alias_bomb_in_follower', inserted('    follower:\n', alias_bomb(' ' * 6)), 'config',
+         'default.yaml', f'uses the YAML anchor or alias &a0 at line {FOLLOWER_LINE + 1}: '
+         'parameters files may not use anchors or aliases'),
+    Case('alias_bomb_as_start_deg', text(DEFAULT_TEXT.replace(
+        '      start_deg: [0.0, 90.0, 180.0, 240.0]\n',
+        alias_bomb(' ' * 6) + '      start_deg: *a8\n')), 'config', 'default.yaml',
+        f'uses the YAML anchor or alias &a0 at line {START_DEG_LINE}'),
+    Case('huge_array', change(motion__start_deg=[0.0] * 2000), 'motion.start_deg',
+         '[0.0, 0.0, 0.0, ...]', 'must have at most 1000 entries'),
+    Case('long_array_quoted_short', change(motion__start_deg=[float(i) for i in range(999)]),
+         'motion.start_deg', '(999 items)', 'must have 4 entries, one per entry of motion.laws'),
+    Case('huge_string', change(recording__directory='d' * 5000), 'recording.directory',
+         '... (5000 characters)', 'must have at most 4096 characters'),
+    Case('huge_file', text(DEFAULT_TEXT + '#' * (1 << 20)), 'config', 'default.yaml',
+         'is larger than 1048576 bytes, the most a parameters file may hold'),
+    Case('deep_nesting', text(DEFAULT_TEXT + 'deep: ' + '[' * 1000 + ']' * 1000 + '\n'),
+         'config', 'default.yaml', 'nests deeper than 16 levels at line'),
+    Case('too_many_values', text('/**: {' + ', '.join(f'k{i}: 1' for i in range(30000)) + '}\n'),
+         'config', 'default.yaml', 'holds more than 20000 values'),
+    Case('not_utf8', text('/**:\n  ros__parameters:\n    length_unit: \udce9\n'), 'config',
+         'default.yaml', 'is not UTF-8 text'),
 ]
 CASE_IDS = [case.id for case in CASES]
 assert len(set(CASE_IDS)) == len(CASE_IDS)
@@ -250,12 +332,13 @@ def write_case(case: Case, folder: Path) -> Path:
         content = yaml.safe_dump({'/**': {'ros__parameters': params}}, sort_keys=False)
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / 'default.yaml'
-    path.write_text(content)
+    path.write_bytes(content.encode('utf-8', 'surrogateescape'))  # lone surrogates: raw bytes
     return path
 
 
 def assert_names(message: str, case: Case) -> None:
     """Check that a message leads with the parameter, then gives the value and the rule."""
+    assert len(message) <= MESSAGE_LIMIT, message
     assert message.startswith(f'{case.parameter} = '), message
     assert case.value in message, message
     assert case.rule in message, message

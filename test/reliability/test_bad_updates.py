@@ -25,6 +25,8 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
 #: Time allowed for a (wrongly) published profile or parameter event to arrive.
 QUIET_S = 0.5
+#: Longest reason: parameter, a value quoted in at most 100 characters (and its size), rule.
+MESSAGE_LIMIT = 400
 
 
 @dataclass(frozen=True)
@@ -43,10 +45,25 @@ def update(id_: str, *reason: str, **values: object) -> Update:
 
 
 UPDATES = [
-    # Refused by rclpy from the declared descriptors (type, range, declaration).
-    update('int_for_double', 'Wrong parameter type', follower__base_radius=4),
-    update('string_for_double', 'Wrong parameter type', follower__base_radius='big'),
-    update('doubles_for_strings', 'Wrong parameter type', motion__laws=[1.0, 2.0, 3.0, 4.0]),
+    # Types and names: checked by the core as a file is, with the same messages.
+    update('int_for_double', 'follower.base_radius = 4: must be a double (write 1.0, not 1)',
+           follower__base_radius=4),
+    update('string_for_double', "follower.base_radius = 'big': must be a double",
+           follower__base_radius='big'),
+    update('doubles_for_strings', 'motion.laws = [1.0, 2.0, 3.0, 4.0]: must be a list of strings',
+           motion__laws=[1.0, 2.0, 3.0, 4.0]),
+    update('ints_for_doubles', 'motion.start_deg = [0, 90, 180, 240]: must be a list of doubles',
+           motion__start_deg=[0, 90, 180, 240]),
+    update('undeclared', 'follower.rollr_radius = 1.0: is not a cam parameter (did you mean '
+           'follower.roller_radius?)', follower__rollr_radius=1.0),
+    Update('undeclare', (Parameter('follower.base_radius'),),
+           ('follower.base_radius = None: cannot be undeclared',)),
+    # Sizes: refused before anything is built, the value quoted in at most 100 characters.
+    update('huge_array', 'motion.start_deg = [0.0, 0.0, ', '... (1000000 items): must have at '
+           'most 1000 entries', motion__start_deg=[0.0] * 1_000_000),
+    update('huge_string', "recording.directory = 'ddd", '... (100000 characters): must have at '
+           'most 4096 characters', recording__directory='d' * 100_000),
+    # Ranges: refused by rclpy from the declared descriptors.
     update('out_of_range', 'limits.pressure_angle_deg', 'out of range', '95.0',
            limits__pressure_angle_deg=95.0),
     update('zero_pressure_limit', 'limits.pressure_angle_deg', 'out of range', '0.0',
@@ -55,24 +72,22 @@ UPDATES = [
            output__state_rate_hz=math.nan),
     update('integer_out_of_range', 'output.sample_count', 'out of range',
            output__sample_count=2),
-    # rclpy's reason does not list the name (its exception's text is 'parameter(s): []').
-    update('undeclared', 'Invalid access to undeclared parameter', follower__rollr_radius=1.0),
-    Update('undeclare', (Parameter('follower.base_radius'),), ('cannot be undeclared',)),
     # Refused by the core (the whole design is rebuilt and checked).
     update('negative_radius', 'follower.roller_radius = -1.0: must be >= 0',
            follower__roller_radius=-1.0),
-    update('zero_base_radius', 'follower.base_radius = 0.0: must be > 0 (m)',
+    update('zero_base_radius', 'follower.base_radius = 0.0: must be > 0 (cm)',
            follower__base_radius=0.0),
     update('nan_radius', 'follower.base_radius = nan: must be finite',
            follower__base_radius=math.nan),
     update('inf_offset', 'follower.offset = inf: must be finite', follower__offset=math.inf),
-    update('offset_at_prime_circle', 'follower.offset = 5.0: needs |offset| < base_radius',
-           follower__offset=5.0),
+    update('offset_at_prime_circle', 'follower.offset = 5.0: needs |offset| < base_radius + '
+           'roller_radius = 5 cm', follower__offset=5.0),
     update('unknown_unit', "length_unit = 'furlong': must be one of m, cm, mm, in",
            length_unit='furlong'),
     update('unknown_law', "motion.laws[1] (cycloid): law = 'cycloid': must be one of",
            motion__laws=['dwell', 'cycloid', 'dwell', 'simple_harmonic']),
-    update('gap', 'motion.start_deg[1] = 95.0', 'gap of 5 deg',
+    update('gap', 'motion.start_deg[1] = 95.0: must equal motion.end_deg[0] = 90.0 (leaves a gap '
+           'of 5 deg)',
            motion__start_deg=[0.0, 95.0, 180.0, 240.0]),
     update('total', 'motion.end_deg[3] = 350.0', 'must cover 360 deg',
            motion__end_deg=[90.0, 180.0, 240.0, 350.0]),
@@ -84,12 +99,12 @@ UPDATES = [
            follower__base_radius=1e300),
     update('via_segment_out_of_range', 'motion.via_segment[0] = 9', 'segment index',
            motion__via_segment=[9], motion__via_deg=[100.0], motion__via_position=[1.0]),
-    update('roller_under_the_cam_centre', 'motion.laws[0] (dwell): s at 0.00 deg = -0.06',
+    update('roller_under_the_cam_centre', 'motion.laws[0] (dwell): s at 0.00 deg = -6.0',
            'roller centre must stay above', motion__start_position=[-6.0, -6.0, -4.0, -4.0],
            motion__end_position=[-6.0, -4.0, -4.0, -6.0]),
-    update('scca_without_fractions', 'motion.laws[1] (scca): b = nan: must be a finite number',
+    update('scca_without_fractions', 'motion.scca_fractions = []: needs 3 entries b, c, d',
            motion__laws=['dwell', 'scca', 'dwell', 'simple_harmonic']),
-    update('follower_without_arm', 'follower.pivot_distance = 0.0: must be > 0 (m)',
+    update('follower_without_arm', 'follower.pivot_distance = 0.0: must be > 0 (cm)',
            follower__type='oscillating_roller'),
     # Atomic only: several parameters that are only wrong, or only right, together.
     update('arm_cannot_reach', 'follower.base_radius = 4.0', 'so that the roller reaches the cam',
@@ -154,6 +169,7 @@ def test_rejected_updates_change_nothing(start_cam_node, executor, report):
             results = attempt()
             assert len(results) == 1, (case.id, kind, results)
             assert not results[0].successful, (case.id, kind)
+            assert len(results[0].reason) <= MESSAGE_LIMIT, (case.id, results[0].reason)
             for fragment in case.reason:
                 assert fragment in results[0].reason, (case.id, kind, results[0].reason)
             assert_serves(evaluate(client, SAMPLE_ANGLES), design)
