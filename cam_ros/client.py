@@ -104,8 +104,8 @@ class CamClient:
                 raise CamClientError(f'{self.service} refused: {response.message}')
             return response
         problem = 'did not answer' if self.client.service_is_ready() else 'is not available'
-        raise CamClientError(f'{self.service} {problem} within {timeout:g} s '
-                             f'({retries + 1} attempts)')
+        attempts = f' (each of {retries + 1} attempts)' if retries else ''
+        raise CamClientError(f'service {self.service} {problem} within {timeout:g} s{attempts}')
 
     def _wait_for_service(self, deadline: float) -> bool:
         while not self.client.service_is_ready():

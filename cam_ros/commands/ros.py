@@ -21,10 +21,12 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
+from cam_ros.client import CamClient, CamClientError
 from cam_ros.commands.common import (dump_json, EXIT_FAILED, EXIT_OK, format_table, number,
                                      say)
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
+from cam_ros.middleware import use_shipped_profile
 
 DEFAULT_SERVICE = '/cam/evaluate'
 DEFAULT_TIMEOUT_S = 5.0
@@ -39,6 +41,7 @@ CALL_FIELDS = ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
 @contextmanager
 def ros_node(kind: str) -> Iterator[tuple[Node, SingleThreadedExecutor]]:
     """Yield a node 'cam_ros_<kind>_<pid>' and an executor in a private context."""
+    use_shipped_profile()
     context = Context()
     rclpy.init(args=[], context=context)
     try:
@@ -122,25 +125,22 @@ def _call_units(unit: str) -> dict[str, str]:
 def call(angles: Sequence[float], degrees: bool = False, json_output: bool = False,
          service: str = DEFAULT_SERVICE, timeout: float = DEFAULT_TIMEOUT_S) -> int:
     """Evaluate the served cam at angles (rad, or deg) and print the answer; 1 on failure."""
-    from cam_ros_interfaces.srv import EvaluateCam
-
     values = np.radians(angles) if degrees else np.asarray(angles, dtype=float)
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise InvalidParameter('ANGLE', list(angles), 'give one or more finite cam angles')
     deadline = time.monotonic() + timeout
     with ros_node('call') as (node, executor):
-        response, problem = request_once(node, executor, EvaluateCam, service,
-                                         EvaluateCam.Request(angles=values.tolist()), deadline,
-                                         timeout)
-        if response is None:
-            say('call', problem)
+        node.executor = None  # nobody spins it: the CamClient spins it while it waits
+        client = CamClient(node, service)
+        try:
+            result = client.evaluate(values, timeout=timeout, retries=0)
+        except CamClientError as err:
+            ready = client.client.service_is_ready()
+            say('call', f'{err}{"" if ready else missing(node, "service", client.service)}')
             return EXIT_FAILED
-        unit = _position_unit(node, executor, service, deadline) if response.success else ''
-    if not response.success:
-        say('call', f'{service} refused: {response.message}')
-        return EXIT_FAILED
-    columns = {'angle': values, **{name: np.asarray(getattr(response, name))
-                                   for name in CALL_FIELDS}}
+        executor.add_node(node)
+        unit = _position_unit(node, executor, service, deadline)
+    columns = {'angle': values, **{name: getattr(result, name) for name in CALL_FIELDS}}
     units = _call_units(unit)
     if json_output:
         print(dump_json({'service': service, 'units': units, **columns}))
