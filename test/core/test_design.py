@@ -54,7 +54,7 @@ def test_evaluate_is_program_plus_geometry_at_any_angles_in_any_order():
     ({'motion.laws': ['dwell', 'via_point', 'dwell', 'simple_harmonic']}, 'motion.laws[1]',
      'exactly one via point'),
     ({'motion.via_segment': [3], 'motion.via_deg': [300.0], 'motion.via_position': [1.0]},
-     'motion.via_segment[3]', 'takes no via points'),
+     'motion.via_segment[0]', 'takes no via points'),
     ({'follower.offset': 5.0}, 'follower.offset', 'base_radius + roller_radius'),
 ])
 def test_design_errors_name_the_config_parameter(updates, parameter, fragment):
