@@ -1,4 +1,8 @@
-"""Draw a cam design: S-V-A-J diagrams over cam angle and the cam with its follower.
+"""Draw a cam design: diagrams over cam angle and the cam with its follower.
+
+Three columns: S-V-A-J; pressure angle and radius of curvature with their limits (and, for a
+design with dynamics, contact force with the spring force and any jump marked, camshaft torque,
+contact stress with its allowable); the cam drawing.
 
 Uses matplotlib's object API (Figure + Agg canvas), never pyplot, so no display and no global
 state are involved. The cam is drawn in the fixed frame (follower side up, +y) turned to the
@@ -12,8 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from cam_ros.core import (CamDesign, InvalidParameter, OscillatingFlat, OscillatingRoller,
-                          TranslatingRoller, cam_geometry)
+from cam_ros.core import (CamDesign, CamState, InvalidParameter, OscillatingFlat,
+                          OscillatingRoller, TranslatingRoller, cam_geometry)
 from cam_ros.core.report import position_unit
 
 if TYPE_CHECKING:
@@ -26,7 +30,8 @@ FACE_MARGIN = 0.1  # the face is drawn this fraction of its needed length longer
 MM_PER_M = 1000.0
 FORMATS = ('.png', '.svg')
 DPI = 120
-FIGURE_SIZE_IN = (14.0, 8.0)
+FIGURE_SIZE_IN = (20.0, 9.0)
+RADIUS_CAP = 20.0  # radii of curvature beyond this many base radii are left out of the plot
 
 
 def _rotation(angle: float) -> np.ndarray:
@@ -35,32 +40,104 @@ def _rotation(angle: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def _diagrams(design: CamDesign, axes: list[Axes], angle: float) -> None:
-    """Plot position, velocity, acceleration and jerk over one revolution on four axes."""
+def _revolution() -> np.ndarray:
+    """Return PLOT_SAMPLES cam angles over 0..360 deg, the last the left limit at 360 deg."""
     theta = np.linspace(0.0, 2.0 * math.pi, PLOT_SAMPLES)
     theta[-1] = np.nextafter(2.0 * math.pi, 0.0)  # the left limit at 360 deg, not the wrap to 0
-    state = design.evaluate(theta)
+    return theta
+
+
+def _frame(design: CamDesign, ax: Axes, angle: float, label: str) -> None:
+    """Mark segment joints, the drawn cam angle and zero on a diagram over cam angle."""
+    for segment in design.program.segments:
+        ax.axvline(math.degrees(segment.start) % 360.0, color='0.75', linewidth=0.8,
+                   linestyle=':')
+    ax.axvline(math.degrees(angle) % 360.0, color='tab:orange', linewidth=1.0)
+    ax.axhline(0.0, color='0.5', linewidth=0.6)
+    ax.set_ylabel(label, fontsize=9)
+    ax.grid(True, linewidth=0.3)
+    ax.ticklabel_format(axis='y', style='sci', scilimits=(-3, 4))
+
+
+def _angle_axis(axes: list[Axes]) -> None:
+    """Share cam angle 0..360 deg along a column of diagrams, labelled on the lowest."""
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    axes[-1].set_xlim(0.0, 360.0)
+    axes[-1].set_xticks(np.arange(0.0, 361.0, 30.0))
+    axes[-1].set_xlabel('cam angle (deg)')
+
+
+def _diagrams(design: CamDesign, axes: list[Axes], state: CamState, angle: float) -> None:
+    """Plot position, velocity, acceleration and jerk over one revolution on four axes."""
     unit = position_unit(design)
     rows = ((state.position, f'position ({unit})', 'tab:blue'),
             (state.velocity, f'velocity ({unit}/s)', 'tab:green'),
             (state.acceleration, f'acceleration ({unit}/s²)', 'tab:red'),
             (state.jerk, f'jerk ({unit}/s³)', 'tab:purple'))
-    joints = [math.degrees(segment.start) % 360.0 for segment in design.program.segments]
-    degrees = np.degrees(theta)
+    degrees = np.degrees(state.angle)
     for ax, (values, label, colour) in zip(axes, rows):
         ax.plot(degrees, values, color=colour, linewidth=1.2)
-        for joint in joints:
-            ax.axvline(joint, color='0.75', linewidth=0.8, linestyle=':')
-        ax.axvline(math.degrees(angle) % 360.0, color='tab:orange', linewidth=1.0)
-        ax.axhline(0.0, color='0.5', linewidth=0.6)
-        ax.set_ylabel(label, fontsize=9)
-        ax.grid(True, linewidth=0.3)
-        ax.ticklabel_format(axis='y', style='sci', scilimits=(-3, 4))
-    axes[-1].set_xlim(0.0, 360.0)
-    axes[-1].set_xticks(np.arange(0.0, 361.0, 30.0))
-    axes[-1].set_xlabel('cam angle (deg)')
+        _frame(design, ax, angle, label)
     laws = ', '.join(segment.law.name for segment in design.program.segments)
     axes[0].set_title(f'S-V-A-J at {design.config.cam_speed:g} rad/s: {laws}', fontsize=10)
+
+
+def _limit(ax: Axes, value: float, label: str) -> None:
+    """Draw a limit as a dashed horizontal line."""
+    ax.axhline(value, color='tab:red', linewidth=0.9, linestyle='--', label=label)
+
+
+def _geometry_panels(design: CamDesign, axes: list[Axes], state: CamState,
+                     angle: float) -> None:
+    """Plot the pressure angle and the surface's radius of curvature with their limits."""
+    degrees = np.degrees(state.angle)
+    pressure, limit = np.degrees(state.pressure_angle), math.degrees(
+        design.config.pressure_angle_limit)
+    axes[0].plot(degrees, pressure, color='tab:blue', linewidth=1.2)
+    _limit(axes[0], limit, f'limit ±{limit:g} deg')
+    _limit(axes[0], -limit, '_')
+    _frame(design, axes[0], angle, 'pressure angle (deg)')
+    axes[0].legend(loc='upper right', fontsize=7)
+    axes[0].set_title('Pressure angle and radius of curvature', fontsize=10)
+    radius = state.radius_of_curvature * MM_PER_M
+    cap = RADIUS_CAP * design.follower.base_radius * MM_PER_M  # an inflection's is unbounded
+    axes[1].plot(degrees, np.where(np.abs(radius) <= cap, radius, np.nan), color='tab:green',
+                 linewidth=1.2)
+    _frame(design, axes[1], angle, 'radius of curvature (mm)')
+    if design.config.min_radius_of_curvature > 0.0:
+        _limit(axes[1], design.config.min_radius_of_curvature * MM_PER_M, 'smallest allowed')
+        axes[1].legend(loc='upper right', fontsize=7)
+
+
+def _dynamics_panels(design: CamDesign, axes: list[Axes], state: CamState,
+                     angle: float) -> None:
+    """Plot contact and spring force (jumps marked), camshaft torque and contact stress."""
+    forces, config = state.dynamics, design.config.dynamics
+    if forces is None or config is None:
+        return
+    degrees = np.degrees(state.angle)
+    force_ax, torque_ax, stress_ax = axes
+    force_ax.plot(degrees, forces.contact_force, color='tab:blue', linewidth=1.2,
+                  label='contact force')
+    if position_unit(design) == 'm':  # an oscillating arm's spring gives a moment (N m)
+        force_ax.plot(degrees, forces.spring_force, color='tab:gray', linewidth=1.0,
+                      label='spring force')
+    leaves = forces.contact_force < 0.0
+    if leaves.any():
+        force_ax.fill_between(degrees, 0.0, 1.0, where=leaves, color='tab:red', alpha=0.2,
+                              transform=force_ax.get_xaxis_transform(),
+                              label='follower leaves the cam')
+    _frame(design, force_ax, angle, 'force (N)')
+    force_ax.legend(loc='best', fontsize=7)
+    force_ax.set_title(f'Dynamics at {design.config.cam_speed:g} rad/s', fontsize=10)
+    torque_ax.plot(degrees, forces.camshaft_torque, color='tab:purple', linewidth=1.2)
+    _frame(design, torque_ax, angle, 'camshaft torque (N m)')
+    stress_ax.plot(degrees, forces.contact_stress / 1e6, color='tab:brown', linewidth=1.2)
+    if config.contact_stress_limit > 0.0:
+        _limit(stress_ax, config.contact_stress_limit / 1e6, 'allowable')
+        stress_ax.legend(loc='upper right', fontsize=7)
+    _frame(design, stress_ax, angle, 'contact stress (MPa)')
 
 
 def _face_direction(design: CamDesign, reference: np.ndarray, contact: np.ndarray,
@@ -160,7 +237,7 @@ def _drawing(design: CamDesign, ax: Axes, angle: float) -> None:
 
 def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
                 title: str = '') -> Path:
-    """Save the S-V-A-J diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
+    """Save the diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
     from matplotlib.figure import Figure
 
     target = Path(path)
@@ -169,13 +246,20 @@ def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
     if not math.isfinite(angle):
         raise InvalidParameter('angle', angle, 'must be a finite cam angle (rad)')
     figure = Figure(figsize=FIGURE_SIZE_IN, layout='constrained')
-    grid = figure.add_gridspec(4, 2, width_ratios=(1.25, 1.0))
-    first = figure.add_subplot(grid[0, 0])
-    axes = [first] + [figure.add_subplot(grid[row, 0], sharex=first) for row in range(1, 4)]
-    for ax in axes[:-1]:
-        ax.tick_params(labelbottom=False)
-    _diagrams(design, axes, angle)
-    _drawing(design, figure.add_subplot(grid[:, 1]), angle)
+    columns = figure.add_gridspec(1, 3, width_ratios=(1.0, 1.0, 1.1))
+    dynamic = design.dynamics is not None
+    state = design.evaluate(_revolution())
+    for column, count in ((0, 4), (1, 5 if dynamic else 2)):
+        rows = columns[0, column].subgridspec(count, 1)
+        first = figure.add_subplot(rows[0])
+        axes = [first] + [figure.add_subplot(rows[row], sharex=first) for row in range(1, count)]
+        _angle_axis(axes)
+        if column == 0:
+            _diagrams(design, axes, state, angle)
+        else:
+            _geometry_panels(design, axes[:2], state, angle)
+            _dynamics_panels(design, axes[2:], state, angle)
+    _drawing(design, figure.add_subplot(columns[0, 2]), angle)
     if title:
         figure.suptitle(title)
     figure.savefig(target, dpi=DPI)

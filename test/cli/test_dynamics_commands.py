@@ -121,3 +121,21 @@ def test_bad_dynamics_values_are_one_line_errors(tmp_path, capsys, section, valu
     run = run_cli(capsys, 'report', cosine_cam(tmp_path, **{section: values}))
     assert run.code == 2 and run.out == ''
     assert len(run.err.splitlines()) == 1 and fragment in run.err, run.err
+
+
+def test_plot_adds_geometry_and_dynamics_panels(tmp_path, capsys):
+    target = tmp_path / 'machine.svg'
+    assert run_cli(capsys, 'plot', CONFIG_DIR / 'machine_dynamics.yaml', '-o', target).code == 0
+    text = target.read_text()
+    for label in ('pressure angle (deg)', 'radius of curvature (mm)', 'contact force',
+                  'spring force', 'camshaft torque (N m)', 'contact stress (MPa)', 'allowable'):
+        assert label in text, label
+    assert 'follower leaves the cam' not in text
+    fast = tmp_path / 'fast.svg'
+    run_cli(capsys, 'plot', cosine_cam(tmp_path, 1.2 * math.sqrt((2 * K + 2 * P / H) / M)),
+            '-o', fast)
+    assert 'follower leaves the cam' in fast.read_text()
+    plain = tmp_path / 'default.svg'
+    assert run_cli(capsys, 'plot', DEFAULT_CONFIG, '-o', plain).code == 0
+    assert 'pressure angle (deg)' in plain.read_text()
+    assert 'contact force' not in plain.read_text()
