@@ -29,7 +29,9 @@ TWO_PI = 2.0 * math.pi
 ANGLE_TOLERANCE = 1e-9
 #: Largest position mismatch accepted at a joint (m, or rad for an oscillating follower).
 POSITION_TOLERANCE = 1e-9
-#: The continuity report leaves out jumps below this times max(1, |left|, |right|).
+#: The continuity report leaves out jumps of d^k s below this times the derivative's natural
+#: scale there, |stroke| / span**k of the segments on either side (or the larger one-sided
+#: value): rounding noise at joints that are smooth in exact arithmetic.
 JUMP_TOLERANCE = 1e-9
 
 
@@ -285,20 +287,26 @@ class MotionProgram:
 
         Joint limits come from the laws' end values (u = 1 of the segment before, u = 0 of the
         segment after; the joint at `start` is the wrap from the last segment).  Jumps below
-        JUMP_TOLERANCE * max(1, |left|, |right|) are left out.  Sorted by angle, then order.
+        JUMP_TOLERANCE times the derivative's scale (|stroke| / span**order of the segments
+        meeting there, or the larger one-sided value) are rounding noise and left out, so a
+        joint that is smooth in exact arithmetic is never listed.  Sorted by angle, then order.
         """
         found: list[Discontinuity] = []
         for number, segment in enumerate(self.segments):
             before = self.segments[number - 1]
-            places = [(segment.start, _segment_values(before, 1.0), _segment_values(segment, 0.0))]
+            places: list[tuple[float, tuple[Segment, ...], LawValues, LawValues]] = [
+                (segment.start, (before, segment), _segment_values(before, 1.0),
+                 _segment_values(segment, 0.0))]
             for at in segment.law.breakpoints:
-                places.append((segment.start + at * segment.span,
+                places.append((segment.start + at * segment.span, (segment,),
                                _segment_values(segment, np.nextafter(at, -np.inf)),
                                _segment_values(segment, at)))
-            for angle, left, right in places:
+            for angle, near, left, right in places:
                 for order, (low, high) in enumerate(zip(left, right)):
                     below, above = float(low), float(high)
-                    if abs(above - below) > JUMP_TOLERANCE * max(1.0, abs(below), abs(above)):
+                    scale = max(abs(below), abs(above),
+                                *(abs(item.stroke) / item.span ** order for item in near))
+                    if abs(above - below) > JUMP_TOLERANCE * scale:
                         found.append(Discontinuity(angle, order, below, above, number))
         return tuple(sorted(found, key=lambda item: (item.angle, item.order)))
 

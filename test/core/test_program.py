@@ -247,6 +247,43 @@ def test_wrap_joint_reports_the_last_segment_against_the_first():
     assert wrap[0].right == 0.0
 
 
+def _steep(law, rise, span_deg):
+    """Dwell, a rise by rise (m) over span_deg, dwell, the same law back over 90 deg."""
+    return program((Dwell(), 0, 90, 0.0, 0.0), (law, 90, 90 + span_deg, 0.0, rise),
+                   (Dwell(), 90 + span_deg, 270, rise, rise), (law, 270, 360, rise, 0.0))
+
+
+def test_rounding_at_smooth_joints_is_not_a_jump():
+    """Leave out rounding noise where the jerk is continuous in exact arithmetic.
+
+    Harmonic y''' = -(pi^3/2) sin(pi u) is 0 at u = 1, ~1e-16 computed: on a 1000 m rise over
+    3 deg (h / beta^3 = 7e6 m/rad^3) a 1e-8 'jump' against the dwell. Modified sine has y''' = 0
+    on both sides of its inner breakpoints (u = 1/8, 7/8). Only the real jumps remain.
+    """
+    harmonic = _steep(SimpleHarmonic(), 1000.0, 3.0)
+    values = harmonic.evaluate(np.array([deg(93.0) - 1e-12]))
+    assert values.d3s[0] != 0.0  # the rounding the report must see through
+    assert [(round(math.degrees(item.angle), 9), item.order)
+            for item in harmonic.continuity_report()] == [(0, 2), (90, 2), (93, 2), (270, 2)]
+    law = make_law('modified_sine')
+    report = _jumps(_steep(law, 1000.0, 3.0).continuity_report())
+    assert [item[:2] for item in report] == [(0, 3), (90, 3), (93, 3), (270, 3)]
+    jerk = 1000.0 * law.cj / deg(3.0) ** 3  # modified sine's peak |y'''| is at its ends
+    assert report[1][2] == approx(jerk) and report[2][2] == approx(-jerk)
+
+
+@pytest.mark.parametrize('scale', [1e-12, 1e-6, 1e3])
+def test_the_report_does_not_depend_on_the_length_scale(scale):
+    """Scaling every stroke scales every jump: the same joints at any size (1 pm to 1 km)."""
+    expected = _jumps(_rise_return(Cycloidal()).continuity_report())
+    rise = H * scale
+    cam = program((Dwell(), 0, 90, 0.0, 0.0), (Cycloidal(), 90, 180, 0.0, rise),
+                  (Dwell(), 180, 270, rise, rise), (Cycloidal(), 270, 360, rise, 0.0))
+    report = _jumps(cam.continuity_report())
+    assert [item[:2] for item in report] == [item[:2] for item in expected]
+    assert [item[2] for item in report] == approx([item[2] * scale for item in expected], abs=0.0)
+
+
 # Evaluation: modulo 2 pi, shapes, time derivatives, speed -----------------------------------
 
 def test_evaluate_takes_angles_modulo_a_revolution():
