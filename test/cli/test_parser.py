@@ -8,7 +8,8 @@ from cli_support import assert_one_error_line, run_cli
 
 from cam_ros.cli import _handler, build_parser, main, one_line
 
-COMMANDS = ('report', 'sample', 'plot', 'export', 'call', 'echo', 'info', 'replay')
+COMMANDS = ('report', 'sample', 'plot', 'export', 'call', 'echo', 'record', 'reload', 'param',
+            'info', 'replay', 'recover')
 
 
 def test_top_level_help_lists_every_command_and_the_exit_codes(capsys):
@@ -55,12 +56,14 @@ def test_main_reads_sys_argv_by_default(monkeypatch, capsys):
 def test_parsed_options_are_exactly_the_command_functions_parameters():
     parser = build_parser()
     samples = {'report': ['c'], 'sample': ['c'], 'plot': ['c', '-o', 'x.png'],
-               'export': ['c', '-o', 'x.csv'], 'call': ['1'], 'echo': ['/t'], 'info': ['f'],
-               'replay': ['f']}
+               'export': ['c', '-o', 'x.csv'], 'call': ['1'], 'echo': ['/t'], 'record': ['on'],
+               'reload': [], 'param get': ['n'], 'param set': ['n', '1'], 'param list': [],
+               'info': ['f'], 'replay': ['f'], 'recover': ['f']}
     for command, rest in samples.items():
-        options = vars(parser.parse_args([command, *rest]))
+        options = vars(parser.parse_args([*command.split(), *rest]))
         function = _handler(options.pop('handler'))
         options.pop('command')
+        options.pop('action', None)  # main() drops it too
         assert set(options) == set(inspect.signature(function).parameters), command
 
 

@@ -155,9 +155,42 @@ def test_bad_replay_arguments_exit_2(argv, fragment, tmp_path, capsys):
                           fragment)
 
 
+def test_replay_waits_for_a_fresh_echo_by_default(recording):
+    """A replay started with an echo (no --wait) still reaches it: the stream is not latched."""
+    echo = subprocess.Popen([console_script(), 'echo', STREAM, '--csv', '--count',
+                             str(STREAM_COUNT), '--timeout', str(4 * GRAPH_TIMEOUT_S)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        replay = subprocess.run([console_script(), 'replay', str(recording), '--topics', STREAM],
+                                capture_output=True, text=True, timeout=4 * GRAPH_TIMEOUT_S)
+        out, err = echo.communicate(timeout=4 * GRAPH_TIMEOUT_S)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+    assert replay.returncode == 0, replay.stderr
+    assert echo.returncode == 0, err
+    rows = out.splitlines()[1:]
+    assert [float(row.split(',')[2]) for row in rows] == [
+        joint_state(index).position[0] for index in range(STREAM_COUNT)]
+
+
+def test_recover_cli_writes_a_new_file_and_never_overwrites(recording, tmp_path, capsys):
+    run = run_cli(capsys, 'recover', recording)
+    target = recording.with_suffix('.recovered.mcap')
+    assert run.code == 0, run.err
+    assert run.out == (f'recovered {STREAM_COUNT + 1} messages on 2 topics into {target} '
+                       '(0 bytes of unfinished records dropped)\n')
+    assert json.loads(run_cli(capsys, 'info', target, '--json').out)['message_count'] == (
+        STREAM_COUNT + 1)
+    run = run_cli(capsys, 'recover', recording, '-o', target)
+    assert_one_error_line(run, 'recover', f"-o = '{target}': exists already")
+    run = run_cli(capsys, 'recover', recording, '-o', target, '--in-place')
+    assert_one_error_line(run, 'recover', 'not allowed with argument')
+
+
 def test_looping_replay_stops_cleanly_on_ctrl_c(recording):
     process = subprocess.Popen([console_script(), 'replay', str(recording), '--loop',
-                                '--rate', '10'], stdout=subprocess.PIPE,
+                                '--rate', '10', '--wait', '0'], stdout=subprocess.PIPE,
                                stderr=subprocess.PIPE, text=True)
     try:
         time.sleep(LOOP_TIME_S)
