@@ -178,6 +178,12 @@ def test_recording_carries_the_parameters_in_force_and_their_changes(start_cam_n
                   'radius_of_curvature'):
         np.testing.assert_array_equal(getattr(served, field), getattr(state, field), field)
 
+    # A node started on the attached file serves the same design.
+    _, replica = start_cam_node(in_force, name='replica')
+    again = replica.call(EvaluateCam.Request(angles=ANGLES.tolist()), timeout_sec=CALL_TIMEOUT_S)
+    np.testing.assert_array_equal(again.position, served.position)
+    np.testing.assert_array_equal(again.pressure_angle, served.pressure_angle)
+
     data = json.loads(cli(capsys, 'info', path, '--json'))
     changes = [c for c in data['parameter_changes'] if c['kind'] == 'changed']
     assert [(c['node'], c['name'], c['old'], c['new']) for c in changes] == [
