@@ -90,8 +90,7 @@ class CamNode(Node):
         super().__init__('cam', allow_undeclared_parameters=True, **kwargs)
         self._params_file: Path | None = self._sources.files[-1]
         for spec in PARAMETERS:  # undeclared names reach _validate_update, which names them
-            self.declare_parameter(spec.name, declared_value(values.get(spec.name)),
-                                   descriptor(spec))
+            self.declare_parameter(spec.name, declared_value(spec, values), descriptor(spec))
         self.design: CamDesign = build_design(parse_parameters(self._current_values()))
         self._pending: CamDesign | None = None
         self.add_on_set_parameters_callback(self._validate_update)

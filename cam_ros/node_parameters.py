@@ -55,12 +55,14 @@ def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     return result
 
 
-def declared_value(value: Any) -> Any:
-    """Return the value to declare: None (unset, the core's default) for an absent or empty list.
+def declared_value(spec: ParameterSpec, values: Mapping[str, Any]) -> Any:
+    """Return the value to declare: the one given, else the default.
 
-    rclpy would take an empty list for a byte array.
+    None (unset) where there is neither, or for an empty list, which rclpy would take for a
+    byte array; the core reads an unset array as empty.
     """
-    return None if value is None or (isinstance(value, list) and not value) else value
+    value = values.get(spec.name, spec.default)
+    return None if value is REQUIRED or (isinstance(value, list) and not value) else value
 
 
 def plain(value: Any) -> Any:
