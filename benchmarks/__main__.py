@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from benchmarks.core import core_figures, geometry_figures, loop_figure
+from benchmarks.dynamics import evaluate_figure
 from benchmarks.recording import recording_figures, RecordingSizes
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO, RosGraph
@@ -41,7 +42,8 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
     design = build_design(load_config(config))
     figures = [*core_figures(design, sizes.core_counts, sizes.core_repeats),
                loop_figure(design, sizes.loop_count, sizes.loop_repeats),
-               *geometry_figures(design, sizes.geometry_count, sizes.geometry_repeats)]
+               *geometry_figures(design, sizes.geometry_count, sizes.geometry_repeats),
+               evaluate_figure(config, design, sizes.geometry_count, sizes.geometry_repeats)]
     with RosGraph(workdir) as graph:
         figures.extend(service_figures(graph, sizes.service))
         figures.extend(recording_figures(graph, workdir, sizes.recording))

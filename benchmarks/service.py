@@ -20,8 +20,9 @@ from rclpy.client import Client
 from std_srvs.srv import SetBool
 
 from benchmarks.core import angles
+from benchmarks.dynamics import service_figure, write_dynamics_config
 from benchmarks.report import Figure, Target
-from benchmarks.ros import RosGraph, ServerProcess
+from benchmarks.ros import DEFAULT_CONFIG, RosGraph, ServerProcess
 from benchmarks.timing import percentile_ms
 
 #: The issue's target: a 1-angle evaluate call at most 1.3 x a trivial service call (p50).
@@ -80,12 +81,17 @@ def first_call(server: Server) -> None:
 
 
 def start_server(graph: RosGraph, kind: str, trial: int) -> tuple[Server, float]:
-    """Start cam_node or the SetBool server; return it and seconds until its service is seen."""
+    """Start cam_node or the SetBool server; return it and seconds until its service is seen.
+
+    kind 'cam_dynamics' is cam_node on the same design with a follower train added.
+    """
     name = f'{kind}_{trial}' if trial >= 0 else f'{kind}_warmup'
-    if kind == 'cam':
+    if kind.startswith('cam'):
         client = graph.client_node.create_client(EvaluateCam, f'/{name}/evaluate')
         request: Any = EvaluateCam.Request(angles=array.array('d', [1.0]))
-        launch: Callable[[str], ServerProcess] = graph.start_cam_node
+        config = DEFAULT_CONFIG if kind == 'cam' else write_dynamics_config(
+            DEFAULT_CONFIG, graph.workdir / 'dynamics.yaml')
+        launch: Callable[[str], ServerProcess] = lambda node: graph.start_cam_node(node, config)
     else:
         client = graph.client_node.create_client(SetBool, f'/{name}/set_bool')
         request = SetBool.Request(data=True)
@@ -158,6 +164,7 @@ def batch_ms(server: Server, count: int, repeats: int) -> float:
 def service_figures(graph: RosGraph, sizes: ServiceSizes) -> list[Figure]:
     """Figures 3, 5 and 6, in the order they are measured (start-up first)."""
     servers, startup_figure = startup(graph, sizes.startup_trials, sizes.startup_warmup)
+    servers['cam_dynamics'], _ = start_server(graph, 'cam_dynamics', 0)
     samples = latencies(servers, sizes)
     p50 = {kind: percentile_ms(values, 50) for kind, values in samples.items()}
     p99 = {kind: percentile_ms(values, 99) for kind, values in samples.items()}
@@ -178,6 +185,7 @@ def service_figures(graph: RosGraph, sizes: ServiceSizes) -> list[Figure]:
                extra={'calls': calls}),
         Figure('service_p99_ms', '/cam/evaluate, 1 angle, p99', p99['cam'], 'ms',
                'SetBool p99', p99['setbool']),
+        service_figure(p50['cam_dynamics'], p50['cam'], calls),
         Figure(f'batch_{sizes.batch}_ms', f'/cam/evaluate, {sizes.batch:,} angles', batch, 'ms',
                '1-angle p50', p50['cam'],
                note=f'Median of {sizes.batch_repeats} calls after one warm-up.'),
