@@ -212,9 +212,9 @@ def _node_commands(sub: argparse._SubParsersAction) -> None:
     for action, summary in (('get', 'print parameter values'),
                             ('set', 'set parameters atomically'),
                             ('list', 'print every parameter and its value')):
-        made[action] = actions.add_parser(action, help=summary, description=f'{summary.capitalize()}.',
-                                          epilog=EXIT_CODES,
-                                          formatter_class=argparse.RawDescriptionHelpFormatter)
+        made[action] = actions.add_parser(
+            action, help=summary, description=f'{summary.capitalize()}.', epilog=EXIT_CODES,
+            formatter_class=argparse.RawDescriptionHelpFormatter)
         made[action].set_defaults(handler=f'cam_ros.commands.control:param_{action}')
         _node_options(made[action])
     made['get'].add_argument('names', nargs='+', metavar='NAME', help='parameter names')
