@@ -14,10 +14,11 @@ import sys
 import threading
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator
 
 import pytest
 from conftest import CONFIG_DIR, NodeProcess
+from reliability.conftest import report  # noqa: F401 (the figures fixture, shared)
 
 from .netns import Host, Link, missing_tool
 
@@ -37,8 +38,13 @@ class Client:
                                         stdout=subprocess.PIPE, stderr=self._log, text=True)
         self._lines: queue.Queue[str] = queue.Queue()
         threading.Thread(target=self._read, daemon=True).start()
+        self.ready: dict = {}
+
+    def wait_ready(self) -> Client:
+        """Wait until the child's first call was answered; return self."""
         self.ready = self.read(READY_TIMEOUT_S)
         assert self.ready['first_answer_s'] is not None, f'never answered:\n{self.log()}'
+        return self
 
     def _read(self) -> None:
         for line in self.process.stdout:
@@ -52,10 +58,14 @@ class Client:
             raise AssertionError(f'client said nothing in {timeout} s (exit '
                                  f'{self.process.poll()}):\n{self.log()}') from None
 
-    def ask(self, do: str, wait: float = ANSWER_TIMEOUT_S, **arguments: object) -> dict:
-        """Send one command and return the answer."""
+    def send(self, do: str, **arguments: object) -> None:
+        """Send one command."""
         self.process.stdin.write(json.dumps({'do': do, **arguments}) + '\n')
         self.process.stdin.flush()
+
+    def ask(self, do: str, wait: float = ANSWER_TIMEOUT_S, **arguments: object) -> dict:
+        """Send one command and return the answer."""
+        self.send(do, **arguments)
         return self.read(wait)
 
     def log(self) -> str:
@@ -102,7 +112,7 @@ class Network:
         client = Client(host.command(sys.executable, str(CHILD), str(DEFAULT)), env or self.env,
                         self._log_path('client'))
         self._stack.callback(client.close)
-        return client
+        return client.wait_ready()
 
     def cam_ros(self, host: Host, *args: str, timeout: float = ANSWER_TIMEOUT_S,
                 env: dict | None = None) -> subprocess.CompletedProcess:
@@ -115,6 +125,25 @@ class Network:
 def _stop(node: NodeProcess) -> None:
     if node.process.poll() is None:
         node.stop()
+
+
+@pytest.fixture
+def heavy(pytestconfig: pytest.Config) -> None:
+    """Skip unless --heavy: the load, loss, partition and multicast tests take minutes."""
+    if not pytestconfig.getoption('--heavy'):
+        pytest.skip('a heavy network test: runs with --heavy')
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """List the figures the network tests measured."""
+    rows = [(report.nodeid.rpartition('::')[2], name, value)
+            for report in terminalreporter.stats.get('passed', [])
+            if report.when == 'call' and 'network/' in report.nodeid
+            for name, value in report.user_properties]
+    if rows:
+        terminalreporter.section('network figures')
+        for test, name, value in rows:
+            terminalreporter.write_line(f'{test}: {name} = {value}')
 
 
 @pytest.fixture
