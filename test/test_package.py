@@ -57,7 +57,7 @@ def test_evaluate_service_has_exactly_the_specified_fields():
 
     assert EvaluateCam.Request.get_fields_and_field_types() == {'angles': 'sequence<double>'}
     arrays = ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
-              'radius_of_curvature')
+              'radius_of_curvature', 'contact_force', 'camshaft_torque', 'contact_stress')
     expected = {'success': 'boolean', 'message': 'string'}
     expected.update((name, 'sequence<double>') for name in arrays)
     assert EvaluateCam.Response.get_fields_and_field_types() == expected

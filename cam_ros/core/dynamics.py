@@ -41,7 +41,7 @@ Everything is SI and vectorised over arrays of cam angles.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping, Optional
 
 import numpy as np
@@ -153,6 +153,8 @@ class FollowerDynamics:
     config: DynamicsConfig
     follower: Follower
     omega: float
+    _roller_curvature: float = field(init=False, repr=False)  # 1/Rr, 0 for a flat face
+    _modulus: float = field(init=False, repr=False)  # E* (Pa)
 
     def __post_init__(self) -> None:
         """Precompute the constants used at every evaluation."""
