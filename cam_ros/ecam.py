@@ -9,12 +9,17 @@ once a second. Every number comes from cam_ros.core.master and cam_ros.core.hand
 """
 from __future__ import annotations
 
+import threading
 from typing import Any, Callable
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.duration import Duration
+from rclpy.exceptions import InvalidHandle
+from rclpy.guard_condition import GuardCondition
+# rclpy has no public wait set; its executors and wait_for_message use this one.
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
@@ -28,6 +33,7 @@ from cam_ros.core.handover import Handover
 from cam_ros.core.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                  MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.recording.intake import _TakenByIntake
 
 #: Reliable, keep last 100: a 1 kHz master is never dropped by a short pause of the executor.
 MASTER_QOS = QoSProfile(depth=100)
@@ -58,6 +64,51 @@ def refuse_rewiring(node: Node) -> None:
     node.add_on_set_parameters_callback(check)
 
 
+class MasterIntake:
+    """
+    Take master messages on a thread of their own, each as soon as it arrives.
+
+    The node's executor rebuilds a wait set of all its services, timers and subscriptions for
+    every message; this thread waits on the master subscription alone, so a busy node adds no
+    latency between master and command. Callbacks run on this thread.
+    """
+
+    def __init__(self, node: Node, topic: str, callback: Callable[[JointState], None]):
+        self._callback = callback
+        self._stop = threading.Event()
+        self.subscription = node.create_subscription(JointState, topic, callback, MASTER_QOS,
+                                                     callback_group=_TakenByIntake())
+        self._wake = GuardCondition(None, None, context=node.context)
+        self._wait_set = _rclpy.WaitSet(1, 1, 0, 0, 0, 0, node.context.handle)
+        self._node = node
+        self._thread = threading.Thread(target=self._run, name='master', daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        subscription, wait_set = self.subscription, self._wait_set
+        try:
+            while not self._stop.is_set():
+                with subscription.handle, self._wake.handle:
+                    taken = subscription.handle.take_message(JointState, False)
+                    if taken is not None:
+                        self._callback(taken[0])
+                        continue
+                    wait_set.clear_entities()
+                    wait_set.add_subscription(subscription.handle)
+                    wait_set.add_guard_condition(self._wake.handle)
+                    wait_set.wait(-1)
+        except InvalidHandle:
+            pass  # the node went away under the thread
+
+    def stop(self) -> None:
+        """End the thread and destroy the subscription."""
+        self._stop.set()
+        self._wake.trigger()
+        self._thread.join()
+        self._node.destroy_subscription(self.subscription)
+        self._wake.destroy()
+
+
 class MasterFollower:
     """Turn master messages into follower commands; hand design changes over smoothly."""
 
@@ -73,7 +124,7 @@ class MasterFollower:
     def __init__(self, node: Node, design: CamDesign, joint_pub: Publisher,
                  recorder: Callable[[], Recorder | None]):
         self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
-        self._design = design
+        self._design_status = self._design_diagnostics(design)
         self._config = MasterConfig.from_config(design.config)
         self._cam = ElectronicCam(design.program, self._config.mapping)
         self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._config.max_speed)
@@ -86,8 +137,9 @@ class MasterFollower:
                                                      COMMAND_QOS)
         self._diagnostics_pub = node.create_publisher(DiagnosticArray, '/diagnostics',
                                                       COMMAND_QOS)
-        self._master_sub = node.create_subscription(JointState, self._config.topic,
-                                                    self._on_master, MASTER_QOS)
+        self._lock = threading.Lock()  # master thread vs executor (timers, updates)
+        self._intake = MasterIntake(node, self._config.topic, self._on_master)
+        self._master_sub = self._intake.subscription
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
         node.get_logger().info(
@@ -103,21 +155,30 @@ class MasterFollower:
 
     def change(self, design: CamDesign) -> None:
         """Take a new design: at once if the master is not moving, else at a common place."""
-        self._design = design
-        self._config = MasterConfig.from_config(design.config)
-        self._tracker.timeout_ns = int(self._config.timeout * 1e9)
-        self._tracker.max_speed = self._config.max_speed
-        self._watch_timer.timer_period_ns = int(self._config.timeout / 4.0 * 1e9)
-        new = ElectronicCam(design.program, self._config.mapping)
-        if self._tracker.status in (WAITING, LOST):
-            self._cam, self._handover = new, None
-            self._last_handover = 'applied at once (master not moving)'
-            return
-        self._handover = Handover(self._cam, new)
-        self._node.get_logger().info(f'design change pending: {self._handover.describe()}')
+        status, config = self._design_diagnostics(design), MasterConfig.from_config(design.config)
+        new = ElectronicCam(design.program, config.mapping)
+        self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
+        with self._lock:
+            self._design_status, self._config = status, config
+            self._tracker.timeout_ns = int(config.timeout * 1e9)
+            self._tracker.max_speed = config.max_speed
+            if self._tracker.status in (WAITING, LOST):
+                self._cam, self._handover = new, None
+                self._last_handover = 'applied at once (master not moving)'
+                return
+            self._handover = handover = Handover(self._cam, new)
+        self._node.get_logger().info(f'design change pending: {handover.describe()}')
+
+    def stop(self) -> None:
+        """Stop taking master messages (before the node is destroyed)."""
+        self._intake.stop()
 
     # Master messages ------------------------------------------------------------------------
     def _on_master(self, message: JointState) -> None:
+        with self._lock:
+            self._follow(message)
+
+    def _follow(self, message: JointState) -> None:
         tracker, before = self._tracker, self._tracker.status
         try:
             position, velocity = read_master(self._config.joint, message.name, message.position,
@@ -174,6 +235,10 @@ class MasterFollower:
         self._node.get_logger().info(f'design change applied {self._last_handover}')
 
     def _watch(self) -> None:
+        with self._lock:
+            self._hold_when_lost()
+
+    def _hold_when_lost(self) -> None:
         """Notice master silence: hold the follower once the master is lost."""
         status = self._tracker.check(self._node.get_clock().now().nanoseconds)
         if status != LOST:
@@ -198,7 +263,9 @@ class MasterFollower:
     def _publish_diagnostics(self) -> None:
         array = DiagnosticArray()
         array.header.stamp = self._node.get_clock().now().to_msg()
-        array.status = [self._design_status(), self._master_status(), self._recording_status()]
+        with self._lock:
+            master = self._master_status()
+        array.status = [self._design_status, master, self._recording_status()]
         self._diagnostics_pub.publish(array)
 
     def _status(self, what: str, level: bytes, message: str, **values: Any) -> DiagnosticStatus:
@@ -207,8 +274,7 @@ class MasterFollower:
             hardware_id=self._node.get_fully_qualified_name(),
             values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
 
-    def _design_status(self) -> DiagnosticStatus:
-        design = self._design
+    def _design_diagnostics(self, design: CamDesign) -> DiagnosticStatus:
         check, warnings = design.check, design.warnings()
         return self._status(
             'design', DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,

@@ -252,6 +252,8 @@ class CamNode(Node):
     def destroy_node(self) -> None:
         """Close a running recording (writing its summary) before the node goes away."""
         self._set_recording(False)
+        if self._ecam:
+            self._ecam.stop()
         super().destroy_node()
 
     # Topics -------------------------------------------------------------------------------
