@@ -16,6 +16,7 @@ from typing import Any, Sequence
 
 from benchmarks.core import core_figures, geometry_figures, loop_figure
 from benchmarks.dynamics import evaluate_figure
+from benchmarks.ecam import ecam_figures, EcamSizes
 from benchmarks.recording import recording_figures, RecordingSizes
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO, RosGraph
@@ -35,6 +36,7 @@ class Sizes:
     geometry_repeats: int = 9
     service: ServiceSizes = field(default_factory=ServiceSizes)
     recording: RecordingSizes = field(default_factory=RecordingSizes)
+    ecam: EcamSizes = field(default_factory=EcamSizes)
 
 
 def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figure]:
@@ -47,6 +49,7 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
     with RosGraph(workdir) as graph:
         figures.extend(service_figures(graph, sizes.service))
         figures.extend(recording_figures(graph, workdir, sizes.recording))
+        figures.extend(ecam_figures(graph, sizes.ecam))
     return figures
 
 

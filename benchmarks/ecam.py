@@ -1,0 +1,154 @@
+"""
+Electronic cam: master-to-command latency of cam_node following a master, against a bare relay.
+
+cam_node (default config, master.source topic, position commands) and a bare relay node
+(master_relay.py: subscribe JointState, publish Float64MultiArray) run as subprocesses side by
+side. The benchmark's own node publishes the same master JointState (position only, so cam_node's
+estimator runs) to each every millisecond, alternating which goes first, and notes the time of
+each publish and of each command received; commands are matched to master messages by the
+relay's echoed position and by the stamp of cam_node's joint state published with each command.
+After a warm-up, `seconds` of messages are measured; a master message without its command is
+counted (the issue wants none).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from rclpy.qos import QoSProfile
+from rclpy.serialization import deserialize_message
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+
+from benchmarks.report import Figure, Target
+from benchmarks.ros import DEFAULT_CONFIG, RosGraph, ServerProcess
+from benchmarks.timing import percentile_ms
+from cam_ros.ecam import MASTER_QOS, stamp_ns
+
+P50_TARGET, P99_TARGET = Target('<=', 1.3), Target('<=', 1.5)
+#: The benchmark's own command readers keep everything: a late reader must not lose commands.
+RECEIVER_QOS = QoSProfile(depth=100_000)
+#: Longest wait for both nodes to answer a probe, and for the last commands (s).
+MATCH_TIMEOUT_S = 60.0
+DRAIN_S = 5.0
+STEP_RAD = 600 * 2 * np.pi / 60 / 1000  # 600 rpm at 1 kHz
+
+
+@dataclass(frozen=True)
+class EcamSizes:
+    """Master rate and how long to measure (after a warm-up)."""
+
+    rate_hz: float = 1000.0
+    seconds: float = 30.0
+    warmup_seconds: float = 2.0
+
+
+class Side:
+    """One node under test: its master publisher and what came back, with receipt times."""
+
+    def __init__(self, graph: RosGraph, process: ServerProcess, name: str):
+        self.process = process
+        self.publisher = graph.client_node.create_publisher(JointState, f'/{name}/master',
+                                                            MASTER_QOS)
+        self.sent: list[int] = []  # publish time of master message k
+        self.commands: list[tuple[int, bytes]] = []
+        self.joints: list[bytes] = []
+        node = graph.client_node
+        node.create_subscription(
+            Float64MultiArray, f'/{name}/commands',
+            lambda data: self.commands.append((time.perf_counter_ns(), data)), RECEIVER_QOS,
+            raw=True)
+        node.create_subscription(JointState, f'/{name}/joint_states', self.joints.append,
+                                 RECEIVER_QOS, raw=True)
+
+    def publish(self, message: JointState) -> None:
+        """Publish one master message, noting when."""
+        self.sent.append(time.perf_counter_ns())
+        self.publisher.publish(message)
+
+    def answered(self) -> dict[int, int]:
+        """Return {master message number: command receipt time}.
+
+        The n-th command answers the n-th accepted master message: cam_node's n-th joint state
+        carries that message's stamp; the relay's command carries its position.
+        """
+        if self.joints:
+            numbers = [stamp_ns(deserialize_message(data, JointState).header.stamp) // 10 ** 6 - 1
+                       for data in self.joints]
+        else:
+            numbers = [round(deserialize_message(data, Float64MultiArray).data[0] / STEP_RAD)
+                       for _, data in self.commands]
+        return {k: received for k, (received, _) in zip(numbers, self.commands)}
+
+
+def master(k: int) -> JointState:
+    """Return the k-th master message (stamp k ms, 600 rpm)."""
+    message = JointState(name=['cam'], position=[k * STEP_RAD])
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(1_000_000 * (k + 1), 10 ** 9)
+    return message
+
+
+def connect(sides: list[Side]) -> int:
+    """Send probes to every side until each answers one; return the next message number."""
+    deadline, k = time.monotonic() + MATCH_TIMEOUT_S, 0
+    while not all(side.commands for side in sides):
+        for side in sides:
+            if side.process.process.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError(f'{side.process.name} does not answer:\n{side.process.log()}')
+            side.publish(master(k))
+        k += 1
+        time.sleep(0.1)
+    time.sleep(0.5)
+    return k
+
+
+def run(sides: list[Side], first: int, count: int, rate_hz: float) -> None:
+    """Publish count master messages to every side at rate_hz, alternating the order."""
+    start = time.monotonic()
+    for k in range(first, first + count):
+        delay = start + (k - first) / rate_hz - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        message = master(k)
+        for side in sides if k % 2 else sides[::-1]:
+            side.publish(message)
+
+
+def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
+    """Measure the latency of cam_node's commands and the relay's; return the two figures."""
+    cam = graph.start('cam_ros.node', 'ecam', ros_args=(
+        '--params-file', str(DEFAULT_CONFIG), '-p', 'master.source:=topic',
+        '-p', 'master.timeout:=30.0'))
+    relay = graph.start('benchmarks.master_relay', 'relay')
+    sides = [Side(graph, cam, 'ecam'), Side(graph, relay, 'relay')]
+    k = connect(sides)
+    warmup = round(sizes.warmup_seconds * sizes.rate_hz)
+    run(sides, k, warmup, sizes.rate_hz)
+    count = round(sizes.seconds * sizes.rate_hz)
+    first = k + warmup
+    run(sides, first, count, sizes.rate_hz)
+    deadline = time.monotonic() + DRAIN_S
+    while time.monotonic() < deadline and any(
+            len(side.commands) < len(side.sent) for side in sides):
+        time.sleep(0.05)
+    latencies, missing = [], []
+    for side in sides:
+        answered = side.answered()
+        measured = [k for k in range(first, first + count) if k in answered]
+        missing.append(count - len(measured))
+        latencies.append([answered[k] - side.sent[k] for k in measured])
+    extra = {'messages': count, 'rate_hz': sizes.rate_hz, 'missing_commands': missing[0],
+             'relay_missing_commands': missing[1]}
+    cam.stop()
+    relay.stop()
+    name = f'E-cam master to command, {sizes.rate_hz:g} Hz, {count:,} msgs'
+    return [
+        Figure('ecam_latency_p50_ms', f'{name}, p50 ({missing[0]} without command)',
+               percentile_ms(latencies[0], 50), 'ms', 'bare relay p50',
+               percentile_ms(latencies[1], 50), P50_TARGET, extra=extra, note=__doc__.split(
+                   '\n\n')[0].strip().replace('\n', ' ')),
+        Figure('ecam_latency_p99_ms', 'E-cam master to command, p99',
+               percentile_ms(latencies[0], 99), 'ms', 'bare relay p99',
+               percentile_ms(latencies[1], 99), P99_TARGET, extra=extra),
+    ]
