@@ -156,7 +156,7 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        minimum=8, maximum=100000),
     _p('output.state_rate_hz', 'double', 50.0, 'Rate of the live state topic', unit='Hz',
        minimum=0.1, maximum=1000.0),
-    _p('output.max_batch', 'integer', 1000000, 'Most angles one evaluate call may carry',
+    _p('output.max_batch', 'integer', 10000, 'Most angles one evaluate call may carry',
        minimum=1, maximum=10000000),
     _p('recording.enabled', 'bool', False, 'Record the node\'s topics to MCAP from start-up'),
     _p('recording.directory', 'string', 'recordings', 'Folder of the MCAP recordings'),

@@ -233,7 +233,8 @@ def test_full_disk_stops_the_recording_not_the_node(ros_domain, executor, tmp_pa
 
 def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
         start_cam_node, executor, tmp_path, effort, report):
-    process, client = start_cam_node(DEFAULT, '-p', f'output.state_rate_hz:={LAZY_RATE_HZ}')
+    process, client = start_cam_node(DEFAULT, '-p', f'output.state_rate_hz:={LAZY_RATE_HZ}',
+                                     '-p', f'output.max_batch:={BIG_BATCH}')
     design = design_with(**{'output.state_rate_hz': LAZY_RATE_HZ})
     baseline = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
     spares = executor.node('spare_client')
