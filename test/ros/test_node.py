@@ -163,9 +163,13 @@ def test_accepted_update_rebuilds_and_republishes_rejected_update_keeps_design(
     result = set_parameters(executor, [
         Parameter('motion.start_deg', value=[0.0, 95.0, 180.0, 240.0])])
     assert not result.successful and 'motion.start_deg[1]' in result.reason
-    # An int for a double is refused by rclpy's type check.
+    # An int for a double, and an unknown name: refused by the core's check, naming them.
     result = set_parameters(executor, [Parameter('follower.base_radius', value=4)])
     assert not result.successful
+    assert result.reason == 'follower.base_radius = 4: must be a double (write 1.0, not 1)'
+    result = set_parameters(executor, [Parameter('follower.ofset', value=0.5)])
+    assert result.reason == ('follower.ofset = 0.5: is not a cam parameter (did you mean '
+                             'follower.offset?)')
     assert_serves(evaluate(client, SAMPLE_ANGLES), bigger)
 
     reload = listener.create_client(Trigger, '/cam/reload')
@@ -237,9 +241,7 @@ def test_invalid_params_file_exits_2_naming_the_parameter(ros_domain, tmp_path):
 def test_an_internal_error_rejects_the_update_and_keeps_the_design(ros_context, monkeypatch):
     import cam_ros.node as node_module
 
-    overrides = [Parameter(name, value=value)
-                 for name, value in read_parameters_file(DEFAULT).items()]
-    node = node_module.CamNode(DEFAULT, context=ros_context, parameter_overrides=overrides)
+    node = node_module.CamNode(DEFAULT, context=ros_context)
     try:
         served = node.design
 
