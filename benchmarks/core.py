@@ -18,12 +18,19 @@ import numpy as np
 from benchmarks.report import Figure, Target
 from benchmarks.timing import interleaved_medians
 from cam_ros.core import CamDesign
+from cam_ros.core.design import CHECK_SAMPLES
 from cam_ros.core.program import MotionProgram
+from cam_ros.core.report import design_report
 
 TWO_PI = 2.0 * math.pi
 #: The issue's targets: core <= 4 x np.sin at 10^6 angles, >= 50 x a Python loop at 10^5.
 CORE_TARGET = (10 ** 6, Target('<=', 4.0))
 LOOP_TARGET = (10 ** 5, Target('>=', 50.0))
+#: Report time over one dense geometry pass before the extremes were refined (issue 16): commit
+#: 73c9d3f measured like report_figure on this machine, 31-43 in 10 runs (median 36; the tree
+#: after it: 40-52, median 45). The target: at most 2 x that.
+REPORT_RATIO_BEFORE = 36.0
+REPORT_TARGET = Target('<=', 2.0 * REPORT_RATIO_BEFORE)
 #: The scalar loop must agree with the core to this relative tolerance (else it is not faithful).
 LOOP_RTOL = 1e-9
 LOOP_ATOL = 1e-12
@@ -173,3 +180,18 @@ def geometry_figures(design: CamDesign, count: int, repeats: int) -> list[Figure
                times['geometry'] * 1e-6, 'ms', 'np.sin', times['sin'] * 1e-6,
                note='Pitch curve, surface, pressure angle, radius of curvature.'),
     ]
+
+
+def report_figure(design: CamDesign, repeats: int) -> Figure:
+    """Figure 2b: the design report (refined extremes, sizing) against one dense geometry pass."""
+    def report() -> object:
+        return design_report(CamDesign(design.config, design.program, design.follower))
+    times = interleaved_medians({'geometry': lambda: design.geometry(CHECK_SAMPLES),
+                                 'report': report}, repeats)
+    return Figure(
+        'design_report_ms', 'design_report (cam_ros report), default design',
+        times['report'] * 1e-6, 'ms', f'CamDesign.geometry({CHECK_SAMPLES})',
+        times['geometry'] * 1e-6, REPORT_TARGET,
+        'A fresh CamDesign per call (the check is cached per design): check with extremes '
+        'refined on the exact motion, base-radius sizing, segment summary, continuity. Target: '
+        f'at most 2 x the ratio before refinement ({REPORT_RATIO_BEFORE:g}, grid extremes only).')

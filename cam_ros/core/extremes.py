@@ -38,7 +38,7 @@ Func = Callable[[Array], npt.ArrayLike]
 
 TWO_PI = 2.0 * math.pi
 #: Bracket width (rad) at which golden section hands over to a final parabolic step.
-POLISH_WIDTH = 1e-6
+POLISH_WIDTH = 1e-4
 #: Distance (in units of eps times the period or the angle range) kept from a break.
 BREAK_GAP = 8.0
 _GOLDEN = (math.sqrt(5.0) - 1.0) / 2.0

@@ -105,11 +105,26 @@ def _boundary(margins: Margins, bad: float, good: float, tol: float) -> tuple[fl
     """
     from scipy.optimize import brentq  # here: scipy costs the node 0.5 s start-up
 
-    def worst(base_radius: float) -> float:
-        return min(margins(base_radius, True).values())
+    def worst(base_radius: float, exact: bool = True) -> float:
+        return min(margins(base_radius, exact).values())
 
-    root = float(brentq(worst, min(bad, good), max(bad, good), xtol=tol, rtol=_RTOL))
+    def solve(func: Callable[[float], float], low: float, high: float) -> float:
+        return float(brentq(func, min(low, high), max(low, high), xtol=tol, rtol=_RTOL))
+
     toward = math.copysign(1.0, good - bad)
+    if worst(bad, False) < 0.0:  # narrow the bracket on the cheap sampled margins first
+        near = solve(lambda radius: worst(radius, False), bad, good)
+        if worst(near) < 0.0:  # sampled margins are never below exact ones
+            bad = near
+            for widen in (1e-7, 1e-5, 1e-3):
+                trial = near + toward * widen * abs(near)
+                if (trial - good) * toward >= 0.0:
+                    break
+                if worst(trial) >= 0.0:
+                    good = trial
+                    break
+                bad = trial
+    root = solve(worst, bad, good)
     step = tol + _RTOL * abs(root)
     found = good
     for shift in (0.0, 1.0, 2.0, 4.0, 8.0):
