@@ -16,16 +16,18 @@ def quote(value: object) -> str:
     Only the first QUOTE_LIMIT entries or characters are ever formatted, so quoting a
     million-entry list costs no more than quoting a short one.
     """
-    sequence = isinstance(value, (str, list, tuple))
-    text = _REPR.repr(value[:QUOTE_LIMIT] if sequence else value)  # type: ignore[index]
+    if isinstance(value, (str, list, tuple)):
+        text = _REPR.repr(value[:QUOTE_LIMIT])
+        unit = 'characters' if isinstance(value, str) else 'items'
+        size = f' ({len(value)} {unit})'
+    else:
+        text, unit, size = _REPR.repr(value), '', ''
     if len(text) <= QUOTE_LIMIT:
         return text
     text = text[:QUOTE_LIMIT - 4]
-    if isinstance(value, str):
-        return f'{text}... ({len(value)} characters)'
-    if ', ' in text:  # end on a whole entry
+    if unit != 'characters' and ', ' in text:  # end on a whole entry
         text = text[:text.rfind(', ') + 2]
-    return f'{text}...' + (f' ({len(value)} items)' if sequence else '')
+    return f'{text}...{size}'
 
 
 class CamError(Exception):
