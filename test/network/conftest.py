@@ -136,10 +136,10 @@ def heavy(pytestconfig: pytest.Config) -> None:
 
 def pytest_terminal_summary(terminalreporter: Any) -> None:
     """List the figures the network tests measured."""
-    rows = [(report.nodeid.rpartition('::')[2], name, value)
-            for report in terminalreporter.stats.get('passed', [])
-            if report.when == 'call' and 'network/' in report.nodeid
-            for name, value in report.user_properties]
+    rows = [(entry.nodeid.rpartition('::')[2], name, value)
+            for entry in terminalreporter.stats.get('passed', [])
+            if entry.when == 'call' and 'network/' in entry.nodeid
+            for name, value in entry.user_properties]
     if rows:
         terminalreporter.section('network figures')
         for test, name, value in rows:

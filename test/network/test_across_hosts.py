@@ -8,7 +8,6 @@ import numpy as np
 
 from cam_ros.recording import open_recording
 
-from .conftest import DEFAULT
 from .support import design_with, recorded_stamps
 
 RECORD_S = 3.0
@@ -35,8 +34,8 @@ def test_a_node_on_another_host_serves_calls_echo_updates_and_recording(network)
     calls = client.ask('calls', count=20, timeout=2.0)
     assert (len(calls['latencies_s']), calls['failures'], calls['wrong']) == (20, [], 0), calls
     faster = 2 * math.tau
-    assert client.ask('set', name='cam_speed', value=faster) == {'successful': True,
-                                                                'reason': ''}
+    updated = client.ask('set', name='cam_speed', value=faster)
+    assert updated == {'successful': True, 'reason': ''}
     result = network.cam_ros(network.b, 'call', '100', '--deg', '--json')
     assert result.returncode == 0, result.stderr
     np.testing.assert_array_equal(json.loads(result.stdout)['velocity'],

@@ -21,7 +21,8 @@ def test_the_node_serves_locally_through_a_partition_and_remotely_after_it(
         heavy, network, report):
     folder = network.folder / 'runs'
     node = network.start_node(network.a, '-p', f'output.state_rate_hz:={STATE_RATE_HZ}',
-                              '-p', 'recording.enabled:=true', '-p', f'recording.directory:={folder}')
+                              '-p', 'recording.enabled:=true',
+                              '-p', f'recording.directory:={folder}')
     local = network.client(network.a)
     remote = network.client(network.b)
     local.ask('stamps')
