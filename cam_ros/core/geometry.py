@@ -589,8 +589,10 @@ def _undercut_measure(follower: Follower) -> Measure:
 
 
 def _worst_curvature(follower: Follower) -> tuple[Measure, str]:
-    """Return what bounds the surface radius: the largest pitch curvature (rollers), the
-    smallest rho (flats)."""
+    """Return the measure and kind that bound the surface radius from below.
+
+    The largest pitch curvature for rollers, the smallest surface radius for flat faces.
+    """
     if isinstance(follower, ROLLERS):
         return _curvature, 'max'
     return _surface_radius, 'min'
