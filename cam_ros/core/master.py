@@ -171,8 +171,9 @@ class MasterTracker:
     Accept master samples, estimate speed and acceleration, and watch for silence.
 
     `accept` checks the stamp and returns the MasterState; `check(now_ns)` moves the status to
-    STALE after half the timeout without a message and to LOST after the timeout, returning the
-    new status once when it changes. A sample after LOST starts the estimates afresh.
+    STALE after half the timeout without a message and to LOST after the timeout (which ends an
+    overspeed), returning the new status once when it changes. A sample after LOST starts the
+    estimates afresh.
     """
 
     def __init__(self, timeout_ns: int, max_speed: float = 0.0):
@@ -213,6 +214,7 @@ class MasterTracker:
         if status == self.status:
             return None
         self.status = status
+        self.overspeed = self.overspeed and status != LOST
         return status
 
 

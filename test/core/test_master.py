@@ -200,6 +200,11 @@ def test_tracker_flags_overspeed_while_it_lasts():
     assert tracker.overspeed
     tracker.accept(1, 0.0, -9.0, 0)
     assert not tracker.overspeed
+    tracker.accept(2, 0.0, 12.0, 0)
+    tracker.check(SECOND // 2)
+    assert tracker.overspeed  # stale: still the last known speed
+    tracker.check(SECOND)
+    assert not tracker.overspeed  # lost: not moving any more
     unlimited = MasterTracker(SECOND)
     unlimited.accept(0, 0.0, 1e9, 0)
     assert not unlimited.overspeed

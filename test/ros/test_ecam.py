@@ -81,7 +81,8 @@ def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_no
 def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_node, executor):
     process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, '-p', 'command.interface:=velocity',
                                 '-p', 'command.trajectory_horizon:=0.05',
-                                '-p', 'command.trajectory_points:=5', '-p', 'master.timeout:=1.0')
+                                '-p', 'command.trajectory_points:=5', '-p', 'master.timeout:=1.0',
+                                '-p', 'master.max_speed:=25.0')
     design = ecam_design(DEFAULT)
     link = MasterLink(executor)
     link.connect(process)
@@ -114,11 +115,13 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
            master_message(START_NS, position=(1.0,)),  # backwards
            master_message(START_NS + 4 * 10 ** 7, position=(1.0,))]  # equal to the last
     link.send(bad, answered=False)
-    link.send([master_message(stamp + 7, position=(3.0,), velocity=(20.0,))])
-    assert link.messages('commands')[-1].data[0] == reference(design, 3.0, 20.0)[1]
+    link.send([master_message(stamp + 7, position=(3.0,), velocity=(30.0,))])  # too fast
+    assert link.messages('commands')[-1].data[0] == reference(design, 3.0, 30.0)[1]
     probes = len([m for m in link.messages('joints') if stamp_of(m) < START_NS])
     master = link.diagnostics('cam: master', lambda v: v['accepted'] == str(6 + probes)
                               and v['dropped'] == '9')
+    assert master['message'].endswith(', over master.max_speed')  # ok or already stale
+    assert master['level'] == b'\x01'
     assert master['dropped: no master joint'] == '1'
     assert master['dropped: not finite'] == '3'
     assert master['dropped: mismatched array lengths'] == '3'
@@ -140,10 +143,15 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
     assert len(link.messages('commands')) == count + 1  # said once
     link.send([master_message(stamp + 10 ** 9, position=(2.5,), velocity=(-5.0,))])
     assert link.messages('commands')[-1].data[0] == reference(design, 2.5, -5.0)[1]
+    for k in range(1, 16):  # keep the master alive past a diagnostics period
+        link.send([master_message(stamp + 10 ** 9 + k * 10 ** 8, position=(2.5 - 0.5 * k,),
+                                  velocity=(-5.0,))])
+        time.sleep(0.1)
     link.diagnostics('cam: master', lambda v: v['message'] == 'ok')
     log = process.log()
     assert 'master silent for 1 s' in log and 'master lost -> ok' in log
     assert 'dropped a master message' in log
+    assert log.count('over master.max_speed = 25 rad/s') == 1
 
 
 def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_node, executor):
