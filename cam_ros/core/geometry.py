@@ -690,9 +690,10 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
 
     max_pressure_angle (rad) bounds |pressure angle|; min_radius (m) bounds the radius of
     curvature of the convex parts of the surface (for a roller, a pitch-curve limit P is the
-    surface limit P - Rr). With program (the motion the geometry was sampled from), every
-    extreme is refined between the samples on the exact motion and cusps are roots; without it,
-    the samples' values are used. The verdict is returned as data, never raised.
+    surface limit P - Rr). With program (the motion the geometry was sampled from, densely over
+    a whole revolution), every extreme is refined between the samples on the exact motion and
+    cusps are roots; without it, the samples' values are used. The verdict is returned as data,
+    never raised.
     """
     if not isinstance(geometry, CamGeometry):
         raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
