@@ -211,9 +211,8 @@ class MasterFollower:
         value = position if self._config.interface == 'position' else velocity
         self._commands_pub.publish(Float64MultiArray(data=[value]))
         self._last_position = position
-        joints = JointState(name=['cam', FOLLOWER],
-                            position=[float(point.cam_angle), position],
-                            velocity=[state.omega / cam.mapping.master_scaling, velocity])
+        joints = JointState(name=['cam', FOLLOWER], position=[state.position, position],
+                            velocity=[state.omega, velocity])
         joints.header = message.header
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:
@@ -249,9 +248,8 @@ class MasterFollower:
         hold = self._last_position if self._config.interface == 'position' else 0.0
         self._commands_pub.publish(Float64MultiArray(data=[hold]))
         last = self._tracker.last
-        joints = JointState(name=['cam', FOLLOWER], velocity=[0.0, 0.0], position=[
-            float(self._cam.mapping.cam_angle(last.position)) if last else 0.0,
-            self._last_position])
+        joints = JointState(name=['cam', FOLLOWER], velocity=[0.0, 0.0],
+                            position=[last.position if last else 0.0, self._last_position])
         joints.header.stamp = self._node.get_clock().now().to_msg()
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:

@@ -64,6 +64,9 @@ def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_no
     joints = [m for m in link.messages('joints') if stamp_of(m) >= START_NS]
     assert [stamp_of(m) for m in joints] == stamps.tolist()  # same stamp as the master
     assert all(m.name == ['cam', 'follower'] for m in joints)
+    np.testing.assert_array_equal([m.position[0] for m in joints], q)  # the master as given
+    np.testing.assert_array_equal([m.velocity[0] for m in joints][:10], omega[:10])
+    np.testing.assert_allclose([m.position[1] for m in joints], position, rtol=0, atol=1e-12)
     follower_velocity = np.array([m.velocity[1] for m in joints])
     np.testing.assert_allclose(follower_velocity[with_velocity], velocity[with_velocity],
                                rtol=1e-12, atol=1e-15)
