@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from cam_ros.core.extremes import refine_extremum, refine_roots
+from cam_ros.core.extremes import refine_extrema, refine_extremum, refine_roots
 
 TWO_PI = 2.0 * math.pi
 GRID = np.linspace(0.0, TWO_PI, 7200, endpoint=False)
@@ -165,3 +165,23 @@ def test_bad_input():
         refine_extremum(np.sin, GRID, np.sin(GRID[:-1]))
     with pytest.raises(ValueError, match='increasing'):
         refine_roots(np.sin, GRID[::-1], np.sin(GRID[::-1]))
+
+
+def test_several_functions_in_one_search_match_closed_forms():
+    calls = []
+
+    def rows(x):
+        calls.append(x.size)
+        return np.array([np.sin(x + 0.3), 2.0 * np.cos(2.0 * x) + x * 0.0])
+
+    values = rows(GRID)
+    calls.clear()
+    (high, high_at), (low, low_at) = refine_extrema(rows, GRID, values, ['max', 'min'])
+    assert high == pytest.approx(1.0, abs=1e-15)
+    assert math.sin(high_at + 0.3) == pytest.approx(1.0, abs=1e-15)
+    assert low == pytest.approx(-2.0, abs=1e-15)
+    assert math.cos(2.0 * low_at) == pytest.approx(-1.0, abs=1e-15)
+    single = len(calls)
+    calls.clear()
+    refine_extremum(lambda x: rows(x)[0], GRID, values[0], 'max')
+    assert single == len(calls)  # one search serves both rows
