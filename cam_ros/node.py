@@ -40,7 +40,7 @@ from cam_ros.middleware import use_shipped_profile
 from cam_ros.joints import joint_coordinates
 from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
                                      parameter_sources, ParameterSources, parse_command_line,
-                                     plain, USAGE)
+                                     plain, ros_node_parameters, USAGE)
 from cam_ros.paths import default_config_path
 from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
                                params_file, Recorder, TopicSpec)
@@ -87,7 +87,9 @@ class CamNode(Node):
         self._sources = parameter_sources(params, default_config_path())
         values = self._sources.read()
         build_design(parse_parameters(values))
-        super().__init__('cam', allow_undeclared_parameters=True, **kwargs)
+        overrides = [*ros_node_parameters(values), *(kwargs.pop('parameter_overrides', ()) or ())]
+        super().__init__('cam', allow_undeclared_parameters=True, parameter_overrides=overrides,
+                         **kwargs)
         self._params_file: Path | None = self._sources.files[-1]
         for spec in PARAMETERS:  # undeclared names reach _validate_update, which names them
             self.declare_parameter(spec.name, declared_value(spec, values), descriptor(spec))

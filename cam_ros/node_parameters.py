@@ -20,7 +20,7 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core.config import PARAMETERS, REQUIRED, ParameterSpec
+from cam_ros.core.config import PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS, ParameterSpec
 from cam_ros.core.params_file import parse_yaml, read_parameters_file
 
 NODE_NAME = 'cam'
@@ -82,6 +82,11 @@ def split_rule(rule: str) -> tuple[str, str, str]:
     left, assign, value = rule.partition(':=')
     node, _, name = left.rpartition(':')
     return (node, name, value) if assign else ('', '', rule)
+
+
+def ros_node_parameters(values: Mapping[str, Any]) -> list[Parameter]:
+    """Return rclpy's own node parameters (use_sim_time) that values give, for the node."""
+    return [Parameter(name, value=values[name]) for name in ROS_NODE_PARAMETERS if name in values]
 
 
 @dataclass(frozen=True)

@@ -185,6 +185,12 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        minimum=1, maximum=1000),
 )
 SPECS: dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
+#: rclpy's own node parameters: a params file may set them for the node (launch files often give
+#: use_sim_time); they are type-checked here and are no part of the design.
+ROS_NODE_PARAMETERS: dict[str, ParameterSpec] = {spec.name: spec for spec in (
+    _p('use_sim_time', 'bool', False, 'Take the time from /clock'),
+    _p('start_type_description_service', 'bool', True, 'Serve the node\'s type descriptions'),
+)}
 
 
 @dataclass(frozen=True)
@@ -295,7 +301,10 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     """Check flat parameter values against :data:`PARAMETERS` and convert them to SI."""
     values: dict[str, Any] = {}
     for name, value in flat.items():
-        values[name] = check_parameter(name, value)
+        if name in ROS_NODE_PARAMETERS:
+            _check_type(ROS_NODE_PARAMETERS[name], value)
+        else:
+            values[name] = check_parameter(name, value)
     for spec in PARAMETERS:
         if spec.name not in values:
             if spec.default is REQUIRED:

@@ -124,3 +124,13 @@ def test_every_parameter_has_a_description_and_a_ros_type():
         assert spec.description
         assert spec.type in {'double', 'integer', 'string', 'bool', 'double_array',
                              'integer_array', 'string_array'}
+
+
+def test_rclpy_node_parameters_are_type_checked_and_left_out_of_the_design(tmp_path):
+    text = edited('    length_unit: cm', '    use_sim_time: true\n    length_unit: cm')
+    config = load_config(write(tmp_path, text))
+    assert 'use_sim_time' not in config.parameters
+    with pytest.raises(InvalidParameter, match=r'^use_sim_time = 1: must be a bool$'):
+        load_config(write(tmp_path, text.replace('use_sim_time: true', 'use_sim_time: 1')))
+    with pytest.raises(InvalidParameter, match='is not a cam parameter'):
+        load_config(write(tmp_path, text.replace('use_sim_time', 'use_sim_tme')))

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -15,6 +16,7 @@ import numpy as np
 import pytest
 from cam_ros_interfaces.srv import EvaluateCam
 from conftest import CONFIG_DIR
+from rclpy.parameter_client import AsyncParameterClient
 from std_srvs.srv import Trigger
 
 from cam_ros.cli import main as cli_main
@@ -189,3 +191,26 @@ def test_reload_of_a_file_with_a_typo_answers_false_and_keeps_serving(start_cam_
     assert answer.success, answer.message
     assert_serves(client, design_with(**{'follower.offset': 0.0}))
     assert 'Traceback' not in process.log()
+
+
+def test_use_sim_time_from_a_launch_params_file_reaches_the_node(start_cam_node, executor,
+                                                                 tmp_path, capsys):
+    # launch_ros writes parameters=[{'use_sim_time': True}] as a /** params file like this one.
+    launch = tmp_path / 'launch_params.yaml'
+    launch.write_text('/**:\n  ros__parameters:\n    use_sim_time: true\n')
+    _, client = start_cam_node(DEFAULT, '--params-file', str(launch))
+    assert_serves(client, design_with())
+    parameters = AsyncParameterClient(executor.node('sim_time_client'), 'cam')
+    assert parameters.wait_for_services(timeout_sec=CALL_TIMEOUT_S)
+    future = parameters.get_parameters(['use_sim_time'])
+    deadline = time.monotonic() + CALL_TIMEOUT_S
+    while not future.done():
+        assert time.monotonic() < deadline, 'get_parameters timed out'
+        time.sleep(0.01)
+    assert future.result().values[0].bool_value is True
+
+    launch.write_text('/**:\n  ros__parameters:\n    use_sim_time: 1\n')
+    result = run([*NODE, '--ros-args', '--params-file', str(DEFAULT), '--params-file',
+                  str(launch)], tmp_path)
+    assert_one_line(result, 'use_sim_time = 1: must be a bool')
+    assert cli_line(launch, capsys).startswith('use_sim_time = 1: must be a bool')
