@@ -6,7 +6,8 @@ cam_node (default config, master.source topic, position commands) and a bare rel
 side. The benchmark's own node publishes the same master JointState (position only, so cam_node's
 estimator runs) to each every millisecond, alternating which goes first, and notes the time of
 each publish and of each command received; commands are matched to master messages by the
-relay's echoed position and by the stamp of cam_node's joint state published with each command.
+relay's echoed position and, for cam_node, by the stamp of the joint state it publishes after
+each command (the n-th command and the n-th joint state belong together).
 After a warm-up, `seconds` of messages are measured; a master message without its command is
 counted (the issue wants none).
 """
@@ -52,15 +53,18 @@ class Side:
         self.publisher = graph.client_node.create_publisher(JointState, f'/{name}/master',
                                                             MASTER_QOS)
         self.sent: list[int] = []  # publish time of master message k
-        self.commands: list[tuple[int, bytes]] = []
-        self.joints: list[bytes] = []
+        self.commands: dict[int, tuple[int, bytes]] = {}  # by publication sequence number
+        self.joints: dict[int, bytes] = {}
         node = graph.client_node
-        node.create_subscription(
-            Float64MultiArray, f'/{name}/commands',
-            lambda data: self.commands.append((time.perf_counter_ns(), data)), RECEIVER_QOS,
-            raw=True)
-        node.create_subscription(JointState, f'/{name}/joint_states', self.joints.append,
+        node.create_subscription(Float64MultiArray, f'/{name}/commands', self._command,
                                  RECEIVER_QOS, raw=True)
+        node.create_subscription(
+            JointState, f'/{name}/joint_states',
+            lambda data, info: self.joints.update({info['publication_sequence_number']: data}),
+            RECEIVER_QOS, raw=True)
+
+    def _command(self, data: bytes, info: dict) -> None:
+        self.commands[info['publication_sequence_number']] = (time.perf_counter_ns(), data)
 
     def publish(self, message: JointState) -> None:
         """Publish one master message, noting when."""
@@ -68,18 +72,19 @@ class Side:
         self.publisher.publish(message)
 
     def answered(self) -> dict[int, int]:
-        """Return {master message number: command receipt time}.
-
-        The n-th command answers the n-th accepted master message: cam_node's n-th joint state
-        carries that message's stamp; the relay's command carries its position.
         """
-        if self.joints:
-            numbers = [stamp_ns(deserialize_message(data, JointState).header.stamp) // 10 ** 6 - 1
-                       for data in self.joints]
-        else:
-            numbers = [round(deserialize_message(data, Float64MultiArray).data[0] / STEP_RAD)
-                       for _, data in self.commands]
-        return {k: received for k, (received, _) in zip(numbers, self.commands)}
+        Return {master message number: command receipt time}.
+
+        cam_node publishes one command and then one joint state with the master's stamp per
+        master message, so the n-th of each (their publication sequence numbers) belong
+        together, whatever is lost on the way; the relay's command echoes the master position.
+        """
+        if not self.joints:
+            return {round(deserialize_message(data, Float64MultiArray).data[0] / STEP_RAD):
+                    received for received, data in self.commands.values()}
+        return {stamp_ns(deserialize_message(data, JointState).header.stamp) // 10 ** 6 - 1:
+                self.commands[number][0]
+                for number, data in self.joints.items() if number in self.commands}
 
 
 def master(k: int) -> JointState:

@@ -35,8 +35,8 @@ from cam_ros.core.master import (BadMaster, ElectronicCam, LOST, MasterConfig, M
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.intake import _TakenByIntake
 
-#: Reliable, keep last 100: a 1 kHz master is never dropped by a short pause of the executor.
-MASTER_QOS = QoSProfile(depth=100)
+#: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
+MASTER_QOS = QoSProfile(depth=1000)
 COMMAND_QOS = QoSProfile(depth=10)
 DIAGNOSTICS_PERIOD_S = 1.0
 #: Parameters that wire the node to the graph: fixed once the node runs.
