@@ -1,9 +1,9 @@
 """cam_node's parameters: where they come from, and how they are declared to ROS.
 
 The node reads its parameters itself, with the core's code, before it declares any: every
-``--params-file`` in order, then every ``-p NAME:=VALUE``, as rcl would apply them. rclpy is
-then started without them, so a params file or override gets exactly the one-line error that
-``cam_ros report`` gives, and rclpy never sees a file the core has not accepted.
+``--params-file`` in order, then every ``-p NAME:=VALUE``, as rcl would apply them, so a bad
+file or override gets exactly the one-line error that ``cam_ros report`` gives. rclpy is started
+without them and the node declares the values read here.
 
 Parameters are declared with dynamic typing: the node's own check (the same as the CLI's) judges
 types, so a wrong type is refused with a reason that names the parameter.

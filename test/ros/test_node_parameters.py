@@ -1,0 +1,77 @@
+"""cam_node's command line and parameter sources, without starting ROS."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import CONFIG_DIR
+from rcl_interfaces.msg import ParameterType
+
+from cam_ros.core import InvalidParameter
+from cam_ros.core.config import PARAMETERS
+from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
+                                     parse_command_line, ParameterSources)
+
+DEFAULT = CONFIG_DIR / 'default.yaml'
+FALLBACK = Path('/fallback.yaml')
+
+
+def test_parameter_arguments_are_taken_out_and_the_rest_goes_to_rclpy():
+    command = parse_command_line(
+        ['cam_node', 'extra', '--ros-args', '-r', '__node:=left', '--params-file', 'a.yaml',
+         '--log-level', 'debug', '-p', 'follower.offset:=0.0', '--params-file', 'b.yaml',
+         '--enable-stdout-logs', '--', 'more', '--ros-args', '--param', 'cam_speed:=1.0',
+         '-r', '__ns:=/robot'], FALLBACK)
+    assert command.sources == ParameterSources(
+        (Path('a.yaml'), Path('b.yaml')), ('follower.offset:=0.0', 'cam_speed:=1.0'), 'left',
+        '/robot')
+    assert command.sources.full_name == '/robot/left'
+    assert command.ros_args == ['cam_node', '--ros-args', '-r', '__node:=left', '--log-level',
+                                'debug', '--enable-stdout-logs', '-r', '__ns:=/robot']
+    assert command.user_args == ['extra', 'more']
+
+
+def test_without_a_params_file_the_default_is_read_and_rclpy_gets_no_ros_arguments():
+    command = parse_command_line(['cam_node'], FALLBACK)
+    assert command.sources.files == (FALLBACK,)
+    assert command.ros_args == ['cam_node']
+    with pytest.raises(InvalidParameter, match=r"^--params-file = None: needs a value after it$"):
+        parse_command_line(['cam_node', '--ros-args', '--params-file'], FALLBACK)
+
+
+def test_a_remap_for_another_node_leaves_the_name():
+    command = parse_command_line(['cam_node', '--ros-args', '-r', 'other:__node:=x', '-r',
+                                  'cam:__node:=right', '-r', '/cam/evaluate:=/e'], FALLBACK)
+    assert command.sources.node_name == 'right'
+
+
+def test_sources_read_files_in_order_then_overrides_for_this_node(tmp_path):
+    later = tmp_path / 'later.yaml'
+    later.write_text('/**:\n  ros__parameters:\n    follower: {offset: 0.25, base_radius: 4.5}\n')
+    values = ParameterSources((DEFAULT, later), ('follower.offset:=0.0',
+                                                 'other:follower.offset:=9.0',
+                                                 'cam:motion.laws:=[dwell, scca]')).read()
+    assert (values['follower.offset'], values['follower.base_radius']) == (0.0, 4.5)
+    assert values['motion.laws'] == ['dwell', 'scca']
+    assert values['follower.roller_radius'] == 1.0  # from the first file
+    with pytest.raises(InvalidParameter, match=r"^-p = 'follower.offset': must be NAME:=VALUE$"):
+        ParameterSources((DEFAULT,), ('follower.offset',)).read()
+    with pytest.raises(InvalidParameter, match=r"^x = '\[1': is not valid YAML at line 1"):
+        ParameterSources((DEFAULT,), ('x:=[1',)).read()
+
+
+def test_declared_values_and_descriptors_follow_the_specs():
+    by_name = {spec.name: spec for spec in PARAMETERS}
+    given = {'follower.offset': 0.5, 'motion.via_deg': []}
+    assert declared_value(by_name['follower.offset'], given) == 0.5
+    assert declared_value(by_name['output.sample_count'], given) == 360  # the default
+    assert declared_value(by_name['motion.via_deg'], given) is None  # not a byte array
+    assert declared_value(by_name['follower.base_radius'], {}) is None  # required, not given
+    rate = descriptor(by_name['output.state_rate_hz'])
+    assert rate.dynamic_typing and rate.type == ParameterType.PARAMETER_DOUBLE
+    assert (rate.floating_point_range[0].from_value, rate.floating_point_range[0].to_value) == (
+        0.1, 1000.0)
+    reset = {param.name: param for param in file_parameters({'follower.offset': 0.0})}
+    assert reset['follower.offset'].value == 0.0
+    assert reset['motion.via_deg'].type_.value == ParameterType.PARAMETER_DOUBLE_ARRAY
+    assert 'follower.base_radius' not in reset  # required: only ever the file's value
