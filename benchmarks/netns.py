@@ -1,5 +1,7 @@
 """Two "hosts" on one machine: network namespaces joined by a veth link, with nftables faults.
 
+Used by the network tests (test/network) and the middleware benchmark.
+
 Every name carries the creating process's id, addresses are private 10.x addresses that exist
 only inside these namespaces, and Link.remove() deletes everything (the veth pair goes with its
 namespaces), so the machine's own interfaces and firewall are never touched.
@@ -59,6 +61,12 @@ class Host:
     def set_link(self, up: bool) -> None:
         """Bring this host's end of the link down (a partition) or up again."""
         run(*self.command('ip', 'link', 'set', self.device, 'up' if up else 'down'))
+
+    def sent_bytes(self) -> int:
+        """Return the bytes this host sent over the link so far."""
+        return int(subprocess.run(
+            self.command('cat', f'/sys/class/net/{self.device}/statistics/tx_bytes'),
+            capture_output=True, text=True, check=True).stdout)
 
     def link_is_up(self) -> bool:
         """Return whether this host's end of the link carries traffic (operstate up)."""

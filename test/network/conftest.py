@@ -20,7 +20,7 @@ import pytest
 from conftest import CONFIG_DIR, NodeProcess
 from reliability.conftest import report  # noqa: F401 (the figures fixture, shared)
 
-from .netns import Host, Link, missing_tool
+from benchmarks.netns import Host, Link, missing_tool
 
 CHILD = Path(__file__).with_name('children.py')
 DEFAULT = CONFIG_DIR / 'default.yaml'
