@@ -220,8 +220,9 @@ def build_law(motion: MotionConfig, index: int, written: Mapping[str, Any]) -> M
             raise InvalidParameter(f'motion.laws[{index}]', name,
                                    f'needs exactly one via point (motion.via_segment has '
                                    f'{len(vias)} entries equal to {index})')
-        rise = (motion.via_position[vias[0]] - motion.start_position[index]) / stroke
-        if not 0.0 < rise < 1.0:  # also catches a zero stroke (nan)
+        lift = motion.via_position[vias[0]] - motion.start_position[index]
+        rise = lift / stroke if stroke else math.nan  # nan: no rise to pass through
+        if not 0.0 < rise < 1.0:
             raise InvalidParameter(
                 f'motion.via_position[{vias[0]}]', written['motion.via_position'][vias[0]],
                 f'must lie strictly between motion.start_position[{index}] = '

@@ -229,6 +229,11 @@ CASES = [
         change(motion__via_segment=[1], motion__via_deg=[135.0], motion__via_position=[2.5])),
         'motion.via_position[0]', '2.5', 'must lie strictly between motion.start_position[1] = '
         '0.0 and motion.end_position[1] = 2.0'),
+    Case('via_point_without_a_rise', both(
+        change_item('motion__laws', 2, 'via_point'),
+        change(motion__via_segment=[2], motion__via_deg=[200.0], motion__via_position=[2.0])),
+        'motion.via_position[0]', '2.0', 'must lie strictly between motion.start_position[2] = '
+        '2.0 and motion.end_position[2] = 2.0'),
     Case('polynomial_via_outside_segment', both(
         change_item('motion__laws', 1, 'polynomial'),
         change(motion__via_segment=[1], motion__via_deg=[45.0], motion__via_position=[1.0])),
