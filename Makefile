@@ -10,11 +10,12 @@ PYTEST_ARGS ?=
 
 .PHONY: setup run test lint bench lock clean
 
-# Only when there is something to build: check the system first (tools/preflight.sh), so a missing
-# tool stops the set-up within seconds, before the venv is made or anything is downloaded.
+# Only when there is something to build: check the system first (tools/preflight.sh, with the
+# venv's Python once there is one), so a missing tool stops the set-up within seconds, before the
+# venv is made or anything is downloaded.
 setup:
 	@$(MAKE) --no-print-directory --question $(VENV)/.cam_ros.stamp || { sh tools/preflight.sh \
-	  $(PYTHON) && $(MAKE) --no-print-directory $(VENV)/.cam_ros.stamp; }
+	  $(or $(wildcard $(PY)),$(PYTHON)) && $(MAKE) --no-print-directory $(VENV)/.cam_ros.stamp; }
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)

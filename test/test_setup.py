@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib.metadata
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -18,11 +19,13 @@ import pytest
 from conftest import REPO
 
 VERSION = f'{sys.version_info.major}.{sys.version_info.minor}'
+MAKE_ERROR = re.compile(r'make(\[\d+\])?: \*\*\* ')  # make's own 'Error 1' line
 C_COMPILERS = {'cc', 'gcc', 'clang'}
 CXX_COMPILERS = {'c++', 'g++', 'clang++'}
-# Variables of the venv's ROS bootstrapper and build tools that a new user's shell does not have.
-VENV_VARIABLES = ('LD_LIBRARY_PATH', '_ROS_WHEELS_BOOTSTRAP_COMPLETE', 'VIRTUAL_ENV', 'PYTHONPATH',
-                  'PYTHONHOME', 'AMENT_PREFIX_PATH', 'CMAKE_PREFIX_PATH', 'CC', 'CXX', 'MAKEFLAGS')
+# Set by the venv's ROS bootstrapper, build tools or a calling make; a new user's shell has none.
+SESSION_VARIABLES = ('LD_LIBRARY_PATH', '_ROS_WHEELS_BOOTSTRAP_COMPLETE', 'VIRTUAL_ENV',
+                     'PYTHONPATH', 'PYTHONHOME', 'AMENT_PREFIX_PATH', 'CMAKE_PREFIX_PATH', 'CC',
+                     'CXX', 'MAKEFLAGS', 'MFLAGS', 'MAKELEVEL')
 
 
 def clean_checkout(destination: Path) -> Path:
@@ -67,7 +70,7 @@ def fake_python(folder: Path, prelude: str) -> str:
 
 def user_env(path: str, **extra: str) -> dict[str, str]:
     """Return this process's environment as a new user's shell would have it, with PATH = path."""
-    env = {key: value for key, value in os.environ.items() if key not in VENV_VARIABLES}
+    env = {key: value for key, value in os.environ.items() if key not in SESSION_VARIABLES}
     return {**env, 'PATH': path, **extra}
 
 
@@ -110,7 +113,7 @@ def test_setup_stops_before_any_download_naming_what_is_missing(
     result = make_setup(tree, user_env(path, PIP_NO_INDEX='1'), timeout=120)
     assert result.returncode != 0
     assert result.stdout == ''
-    message = [line for line in result.stderr.splitlines() if not line.startswith('make: ***')]
+    message = [line for line in result.stderr.splitlines() if not MAKE_ERROR.match(line)]
     assert len(message) == 1, result.stderr
     assert message[0].startswith('make setup: ') and problem in message[0], message[0]
     assert f': on Debian/Ubuntu, sudo apt install {package}' in message[0], message[0]
