@@ -329,3 +329,18 @@ def test_flat_face_friction_against_the_force_and_moment_balance(updates):
     np.testing.assert_allclose(forces.camshaft_torque, moment, rtol=1e-9,
                                atol=1e-12 * np.abs(moment).max())
     assert np.all(forces.camshaft_torque * 40.0 - forces.follower_force * ds * 40.0 >= 0.0)
+
+
+def test_a_jump_span_through_zero_degrees_wraps():
+    # s = H/2 (1 + cos theta): the fall first, so the least force lies just after 0 deg
+    c = 2 * ZETA * math.sqrt(K * M)
+    omega = 1.3 * math.sqrt((2 * K + 2 * (P + F) / H) / M)
+    cam = build(cosine_cam(cam_speed=omega, **{'motion.start_position': [H, 0.0],
+                                               'motion.end_position': [0.0, H]}))
+    alpha, beta = (K - M * omega ** 2) * H / 2, -c * omega * H / 2
+    k0 = K * H / 2 + P + F
+    centre, half = math.atan2(-beta, -alpha), math.acos(k0 / math.hypot(alpha, beta))
+    assert centre < half  # the span starts before 0 deg
+    ((start, end),) = dynamics_report(cam).jump_angles
+    assert math.isclose(start, centre - half + TWO_PI, abs_tol=1e-9)
+    assert math.isclose(end, centre + half, abs_tol=1e-9)
