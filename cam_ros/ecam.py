@@ -29,6 +29,7 @@ from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
+from cam_ros.core.dynamics_report import dynamics_report
 from cam_ros.core.handover import Handover
 from cam_ros.core.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                  MasterTracker, OK, read_master, STALE, WAITING)
@@ -124,10 +125,12 @@ class MasterFollower:
     def __init__(self, node: Node, design: CamDesign, joint_pub: Publisher,
                  recorder: Callable[[], Recorder | None]):
         self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
-        self._design_status = self._design_diagnostics(design)
+        jump = jump_speed(design)
+        self._design_status = self._design_diagnostics(design, jump)
         self._config = MasterConfig.from_config(design.config)
         self._cam = ElectronicCam(design.program, self._config.mapping)
-        self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._config.max_speed)
+        self._speed_limit = self._config.speed_limit(jump)
+        self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0])
         self._handover: Handover | None = None
         self._last_handover = 'none'
         self._last_position = 0.0  # last commanded follower position
@@ -155,13 +158,14 @@ class MasterFollower:
 
     def change(self, design: CamDesign) -> None:
         """Take a new design: at once if the master is not moving, else at a common place."""
-        status, config = self._design_diagnostics(design), MasterConfig.from_config(design.config)
+        jump, config = jump_speed(design), MasterConfig.from_config(design.config)
+        status, limit = self._design_diagnostics(design, jump), config.speed_limit(jump)
         new = ElectronicCam(design.program, config.mapping)
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
             self._design_status, self._config = status, config
             self._tracker.timeout_ns = int(config.timeout * 1e9)
-            self._tracker.max_speed = config.max_speed
+            self._speed_limit, self._tracker.max_speed = limit, limit[0]
             if self._tracker.status in (WAITING, LOST):
                 self._cam, self._handover = new, None
                 self._last_handover = 'applied at once (master not moving)'
@@ -199,8 +203,8 @@ class MasterFollower:
             self._node.get_logger().info(f'master {before} -> ok')
         if tracker.overspeed and not self._overspeed_said:
             self._node.get_logger().warning(
-                f'master speed {state.omega:.6g} rad/s over master.max_speed = '
-                f'{self._config.max_speed:g} rad/s')
+                f'master speed {state.omega:.6g} rad/s over {self._speed_limit[1]} '
+                f'({self._speed_limit[0]:.6g} rad/s)')
         self._overspeed_said = tracker.overspeed
 
     def _publish(self, message: JointState, state: MasterState) -> None:
@@ -272,7 +276,7 @@ class MasterFollower:
             hardware_id=self._node.get_fully_qualified_name(),
             values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
 
-    def _design_diagnostics(self, design: CamDesign) -> DiagnosticStatus:
+    def _design_diagnostics(self, design: CamDesign, jump: float | None) -> DiagnosticStatus:
         check, warnings = design.check, design.warnings()
         return self._status(
             'design', DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,
@@ -281,20 +285,23 @@ class MasterFollower:
             pressure_angle_limit_deg=f'{np.degrees(design.config.pressure_angle_limit):.3f}',
             min_radius_of_curvature_m=f'{check.min_radius:.6g}',
             radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
-            undercut=check.undercut)
+            undercut=check.undercut,
+            jump_speed_rad_s='none (no dynamics or no jump)' if jump is None else f'{jump:.6g}')
 
     def _master_status(self) -> DiagnosticStatus:
         tracker = self._tracker
         last = tracker.last
         level = max(LEVELS[tracker.status], DiagnosticStatus.WARN if tracker.overspeed
                     else DiagnosticStatus.OK)
-        message = tracker.status + (', over master.max_speed' if tracker.overspeed else '')
+        message = tracker.status + (f', over {self._speed_limit[1]}' if tracker.overspeed
+                                    else '')
         dropped = {f'dropped: {reason}': count for reason, count in tracker.dropped.items()}
         pending = self._handover.describe() if self._handover else 'none'
         return self._status('master', level, message, topic=self._master_sub.topic_name,
                             accepted=tracker.accepted, dropped=sum(tracker.dropped.values()),
                             **dropped, speed=last.omega if last else 0.0,
-                            max_speed=self._config.max_speed, design_change=pending,
+                            speed_limit=f'{self._speed_limit[0]:.6g} ({self._speed_limit[1]})',
+                            design_change=pending,
                             last_design_change=self._last_handover)
 
     def _recording_status(self) -> DiagnosticStatus:
@@ -305,6 +312,12 @@ class MasterFollower:
             return self._status('recording', DiagnosticStatus.ERROR, str(recorder.error))
         return self._status('recording', DiagnosticStatus.OK, f'recording to {recorder.path}',
                             messages=recorder.message_count)
+
+
+def jump_speed(design: CamDesign) -> float | None:
+    """Return the design's jump speed (rad/s of cam), None without dynamics or jump."""
+    report = dynamics_report(design)
+    return None if report is None else report.jump_speed
 
 
 def _trajectory(times: np.ndarray, positions: np.ndarray, velocities: np.ndarray,

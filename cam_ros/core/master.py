@@ -126,6 +126,18 @@ class MasterConfig:
                    values['command.interface'], values['command.trajectory_horizon'],
                    values['command.trajectory_points'])
 
+    def speed_limit(self, jump_speed: float | None) -> tuple[float, str]:
+        """
+        Return the master speed to warn above (inf: none) and what sets it.
+
+        That is master.max_speed (if not 0) or the master speed at which the cam turns at its
+        jump speed (rad/s of cam, None without dynamics), whichever is lower.
+        """
+        limits = [(self.max_speed, 'master.max_speed')] if self.max_speed else []
+        if jump_speed is not None:
+            limits.append((jump_speed * self.mapping.master_scaling, 'the jump speed'))
+        return min(limits, default=(math.inf, 'no limit'))
+
 
 class BadMaster(Exception):
     """A master message that must be dropped; the reason is one of the module's constants."""
@@ -176,7 +188,7 @@ class MasterTracker:
     estimates afresh.
     """
 
-    def __init__(self, timeout_ns: int, max_speed: float = 0.0):
+    def __init__(self, timeout_ns: int, max_speed: float = math.inf):
         self.timeout_ns = int(timeout_ns)
         self.max_speed = float(max_speed)
         self.status = WAITING
@@ -197,7 +209,7 @@ class MasterTracker:
         self._history = [*history, state]
         self.last, self._received_ns, self.status = state, received_ns, OK
         self.accepted += 1
-        self.overspeed = bool(self.max_speed) and abs(state.omega) > self.max_speed
+        self.overspeed = abs(state.omega) > self.max_speed
         return state
 
     def drop(self, reason: str) -> None:

@@ -94,6 +94,20 @@ def test_oscillating_slave_offset_is_in_degrees():
         math.radians(10.0))
 
 
+@pytest.mark.parametrize('max_speed, jump, expected', [
+    (0.0, None, (math.inf, 'no limit')),
+    (0.0, 30.0, (60.0, 'the jump speed')),  # cam rad/s times master.scaling 2
+    (50.0, 30.0, (50.0, 'master.max_speed')),
+    (50.0, 20.0, (40.0, 'the jump speed')),
+    (50.0, 0.0, (0.0, 'the jump speed')),  # contact lost at rest: any motion warns
+])
+def test_the_speed_limit_is_the_lower_of_max_speed_and_the_jump_speed(max_speed, jump,
+                                                                      expected):
+    values = read_parameters_file(DEFAULT)
+    values.update({'master.scaling': 2.0, 'master.max_speed': max_speed})
+    assert MasterConfig.from_config(parse_parameters(values)).speed_limit(jump) == expected
+
+
 @pytest.mark.parametrize('name, value, fragment', [
     ('master.scaling', 0.0, '>= 1e-06'),
     ('master.source', 'encoder', 'one of clock, topic'),

@@ -5,11 +5,14 @@ import math
 import time
 
 import numpy as np
+import pytest
 from conftest import CONFIG_DIR
 from ecam_support import (ecam_design, master_message, MasterLink, phases_profile, RPM,
                           stamp_of)
 from rclpy.parameter import Parameter
 from test_node import set_parameters
+
+from cam_ros.core.dynamics_report import dynamics_report
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 TOPIC_MODE = ('-p', 'master.source:=topic')
@@ -154,7 +157,24 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
     log = process.log()
     assert 'master silent for 1 s' in log and 'master lost -> ok' in log
     assert 'dropped a master message' in log
-    assert log.count('over master.max_speed = 25 rad/s') == 1
+    assert log.count('over master.max_speed (25 rad/s)') == 1
+
+
+def test_a_master_over_the_jump_speed_is_warned_about(start_cam_node, executor):
+    machine = CONFIG_DIR / 'machine_dynamics.yaml'
+    process, _ = start_cam_node(machine, *TOPIC_MODE, '-p', 'master.scaling:=2.0',
+                                '-p', 'master.timeout:=30.0')
+    jump = dynamics_report(ecam_design(machine)).jump_speed  # cam rad/s
+    link = MasterLink(executor)
+    link.connect(process)
+    design = link.diagnostics('cam: design', lambda v: True)
+    assert float(design['jump_speed_rad_s']) == pytest.approx(jump, rel=1e-5)
+    link.send([master_message(START_NS, position=(1.0,), velocity=(1.9 * jump,)),
+               master_message(START_NS + 10 ** 7, position=(1.2,), velocity=(2.1 * jump,))])
+    master = link.diagnostics('cam: master', lambda v: v['message'].endswith('jump speed'))
+    assert master['speed_limit'] == f'{2 * jump:.6g} (the jump speed)'
+    log = process.log()
+    assert log.count('over the jump speed') == 1 and f'{2.1 * jump:.6g} rad/s' in log
 
 
 def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_node, executor):
