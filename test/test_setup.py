@@ -93,8 +93,9 @@ MISSING = [
     pytest.param(C_COMPILERS, '', 'no working C compiler', 'gcc', id='no C compiler'),
     pytest.param(CXX_COMPILERS, '', 'no working C++ compiler', 'g++', id='no C++ compiler'),
     pytest.param({'python3'}, '', 'python3 not found', 'python3', id='no python3'),
-    pytest.param(set(), fake_version(3, 10), 'is CPython 3.10; the pinned ROS Jazzy wheels exist '
-                 'for CPython 3.11, 3.12 and 3.13 only', 'python3.11', id='python 3.10'),
+    pytest.param(set(), fake_version(3, 10), 'is CPython 3.10; the pinned wheels '
+                 '(requirements.lock) exist for CPython 3.11, 3.12 and 3.13 only', 'python3.11',
+                 id='python 3.10'),
     pytest.param(set(), fake_version(3, 14), 'is CPython 3.14;', 'python3.11', id='python 3.14'),
     pytest.param(set(), 'import sys; sys.modules["ensurepip"] = None',
                  'python3 -m venv cannot install pip', f'python{VERSION}-venv', id='no venv'),

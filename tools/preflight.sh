@@ -23,7 +23,8 @@ compiles() {
 }
 
 command -v "$python" >/dev/null || fail "$python not found (Python 3.11, 3.12 or 3.13)" python3
-# The pinned ros-jazzy wheels are CPython 3.11, 3.12 and 3.13 builds for manylinux_2_28_x86_64.
+# The pinned wheels exist for CPython 3.11-3.13 (not 3.10: NumPy 2.4 and others; not 3.14:
+# backports.zstd), the ros-jazzy ones for manylinux_2_28_x86_64 only.
 set -- $("$python" - 2>/dev/null <<'EOF'
 import os, platform, sys, sysconfig
 try:
@@ -44,10 +45,12 @@ EOF
 version=${1#*-}
 case $1 in
     CPython-3.1[123]) ;;
-    *) fail "$python is ${1%-*} $version; the pinned ROS Jazzy wheels exist for CPython 3.11, 3.12\
- and 3.13 only" 'python3.11 python3.11-venv python3.11-dev, then make setup PYTHON=python3.11' ;;
+    *) fail "$python is ${1%-*} $version; the pinned wheels (requirements.lock) exist for CPython\
+ 3.11, 3.12 and 3.13 only" \
+        'python3.11 python3.11-venv python3.11-dev, then make setup PYTHON=python3.11' ;;
 esac
-[ "$3" = 1 ] || fail "the pinned ROS Jazzy wheels exist for Linux x86_64 with glibc >= 2.28; this is $2"
+[ "$3" = 1 ] ||
+    fail "the pinned ROS Jazzy wheels exist for Linux x86_64 with glibc >= 2.28 only; this is $2"
 [ "$4" = 1 ] || fail "$python -m venv cannot install pip (no ensurepip)" "python$version-venv"
 [ "$5" = 1 ] || fail "the Python headers (Python.h) for the interface build are missing" \
     "python$version-dev"
