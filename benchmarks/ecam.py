@@ -13,8 +13,10 @@ counted (the issue wants none).
 """
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from rclpy.qos import QoSProfile
@@ -46,7 +48,13 @@ class EcamSizes:
 
 
 class Side:
-    """One node under test: its master publisher and what came back, with receipt times."""
+    """
+    One node under test: its master publisher and what came back, with receipt times.
+
+    Times are the system clock's (ns): the publish time taken just before publishing, the
+    receipt time the middleware's own reception stamp, so the benchmark's executor, which takes
+    the commands, adds nothing to the latency.
+    """
 
     def __init__(self, graph: RosGraph, process: ServerProcess, name: str):
         self.process = process
@@ -64,11 +72,11 @@ class Side:
             RECEIVER_QOS, raw=True)
 
     def _command(self, data: bytes, info: dict) -> None:
-        self.commands[info['publication_sequence_number']] = (time.perf_counter_ns(), data)
+        self.commands[info['publication_sequence_number']] = (info['received_timestamp'], data)
 
     def publish(self, message: JointState) -> None:
         """Publish one master message, noting when."""
-        self.sent.append(time.perf_counter_ns())
+        self.sent.append(time.time_ns())
         self.publisher.publish(message)
 
     def answered(self) -> dict[int, int]:
@@ -85,6 +93,12 @@ class Side:
         return {stamp_ns(deserialize_message(data, JointState).header.stamp) // 10 ** 6 - 1:
                 self.commands[number][0]
                 for number, data in self.joints.items() if number in self.commands}
+
+
+def cpu_seconds(process: ServerProcess) -> float:
+    """Return the CPU time (user + system) a process has used so far, in s."""
+    fields = Path(f'/proc/{process.process.pid}/stat').read_text().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
 
 
 def master(k: int) -> JointState:
@@ -132,7 +146,10 @@ def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
     run(sides, k, warmup, sizes.rate_hz)
     count = round(sizes.seconds * sizes.rate_hz)
     first = k + warmup
+    cpu = [cpu_seconds(side.process) for side in sides]
     run(sides, first, count, sizes.rate_hz)
+    cpu = [(cpu_seconds(side.process) - before) / count * 1e6
+           for side, before in zip(sides, cpu)]
     deadline = time.monotonic() + DRAIN_S
     while time.monotonic() < deadline and any(
             len(side.commands) < len(side.sent) for side in sides):
@@ -144,7 +161,8 @@ def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
         missing.append(count - len(measured))
         latencies.append([answered[k] - side.sent[k] for k in measured])
     extra = {'messages': count, 'rate_hz': sizes.rate_hz, 'missing_commands': missing[0],
-             'relay_missing_commands': missing[1]}
+             'relay_missing_commands': missing[1], 'cpu_us_per_message': cpu[0],
+             'relay_cpu_us_per_message': cpu[1]}
     cam.stop()
     relay.stop()
     name = f'E-cam master to command, {sizes.rate_hz:g} Hz, {count:,} msgs'
