@@ -180,7 +180,11 @@ class MasterFollower:
     # Master messages ------------------------------------------------------------------------
     def _on_master(self, message: JointState) -> None:
         with self._lock:
-            self._follow(message)
+            try:
+                self._follow(message)
+            except Exception as err:  # a bug must cost one message, not the master thread
+                self._node.get_logger().error(f'master message not followed: {err!r}',
+                                              throttle_duration_sec=5.0)
 
     def _follow(self, message: JointState) -> None:
         tracker, before = self._tracker, self._tracker.status
