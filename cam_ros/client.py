@@ -23,20 +23,23 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import make_dataclass
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 from cam_ros_interfaces.srv import EvaluateCam
+from numpy.typing import ArrayLike
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from cam_ros.core.config import SPECS
 
 #: Replies kept by the client's reader until taken; see the module docstring and the README.
 REPLY_DEPTH = 1000
 CLIENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=REPLY_DEPTH,
                         reliability=ReliabilityPolicy.RELIABLE)
-#: Angles per call; the node's default output.max_batch.
-CHUNK_SIZE = 10_000
+#: Angles per call: the node's default output.max_batch.
+CHUNK_SIZE = SPECS['output.max_batch'].default
 SPIN_SLICE_S = 0.05  # spin_once slice when the client spins the node itself
 #: The per-angle arrays of an answer (kinematics, and dynamics when the design has them).
 FIELDS = tuple(name for name, kind in EvaluateCam.Response.get_fields_and_field_types().items()
@@ -68,7 +71,7 @@ class CamClient:
         """Return the fully resolved service name."""
         return self.client.srv_name
 
-    def evaluate(self, angles: Iterable[float], timeout: float = 1.0,
+    def evaluate(self, angles: ArrayLike, timeout: float = 1.0,
                  retries: int = 2) -> Any:
         """Evaluate the served cam at angles (rad); return a CamResult of NumPy arrays.
 
