@@ -36,8 +36,8 @@ from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, c
                           parse_parameters)
 from cam_ros.core.config import PARAMETERS, SPECS
 from cam_ros.ecam import MasterFollower
-from cam_ros.middleware import use_shipped_profile
 from cam_ros.joints import joint_coordinates
+from cam_ros.middleware import use_shipped_profile
 from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
                                      parameter_sources, ParameterSources, parse_command_line,
                                      plain, ros_node_parameters, USAGE)
