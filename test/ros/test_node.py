@@ -210,7 +210,9 @@ def test_live_state_rate_and_values(start_cam_node, executor):
     rate = len(burst) / 2.0
     assert 14.0 <= rate <= 24.0, rate
     design = design_with()
-    angles = np.array([m.position[0] for m in burst])
+    # The default cam turns clockwise: its joint is the rotation about +z, -theta (REP 103).
+    angles = -np.array([m.position[0] for m in burst])
+    assert all(m.velocity[0] == -design.config.cam_speed for m in burst)
     expected = design.evaluate(angles)
     np.testing.assert_allclose([m.position[1] for m in burst], expected.position, atol=1e-12)
     np.testing.assert_allclose([m.velocity[1] for m in burst], expected.velocity, atol=1e-12)
