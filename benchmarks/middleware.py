@@ -27,15 +27,22 @@ from benchmarks.netns import Link
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO
 from benchmarks.timing import percentile_ms
+from cam_ros.paths import fastdds_profile_path
 
-CALLS = 3000
-BLOCK = 250
-IDLE_S = 10.0
 READY_TIMEOUT_S = 90.0
 TICKS_PER_S = os.sysconf('SC_CLK_TCK')
 DEFAULTS_XML = ('<?xml version="1.0" encoding="UTF-8"?>\n'
                 '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">'
                 '<profiles><participant profile_name="fast_dds_defaults"/></profiles></dds>\n')
+
+
+@dataclass(frozen=True)
+class ProfileSizes:
+    """How much to measure (the defaults are the published run's)."""
+
+    calls: int = 3000  # per copy
+    block: int = 250  # calls in a row before the other copy's turn
+    idle_s: float = 10.0
 
 
 @dataclass
@@ -89,33 +96,34 @@ def start_copy(link: Link, profile: str, workdir: Path) -> Copy:
     return copy
 
 
-def measure(copies: dict[str, Copy]) -> dict[str, dict]:
+def measure(copies: dict[str, Copy], sizes: ProfileSizes) -> dict[str, dict]:
     """Alternating call blocks, then an idle phase; return the raw numbers of each copy."""
     raw = {name: {'round_trips': [], 'call_cpu_s': 0.0, 'call_bytes': 0} for name in copies}
     for copy in copies.values():
-        copy.calls(BLOCK)  # warm-up
-    while len(raw['shipped']['round_trips']) < CALLS:
+        copy.calls(sizes.block)  # warm-up
+    while len(raw['shipped']['round_trips']) < sizes.calls:
         for name, copy in copies.items():
             cpu, sent = copy.cpu_s(), copy.link_bytes()
-            raw[name]['round_trips'] += copy.calls(BLOCK)
+            raw[name]['round_trips'] += copy.calls(sizes.block)
             raw[name]['call_cpu_s'] += copy.cpu_s() - cpu
             raw[name]['call_bytes'] += copy.link_bytes() - sent
     before = {name: (copy.cpu_s(), copy.link_bytes()) for name, copy in copies.items()}
-    time.sleep(IDLE_S)
+    time.sleep(sizes.idle_s)
     for name, copy in copies.items():
         raw[name]['idle_cpu_s'] = copy.cpu_s() - before[name][0]
         raw[name]['idle_bytes'] = copy.link_bytes() - before[name][1]
     return raw
 
 
-def figures(raw: dict[str, dict]) -> list[Figure]:
+def figures(raw: dict[str, dict], sizes: ProfileSizes) -> list[Figure]:
     """Turn the raw numbers into figures: the shipped profile over Fast DDS's defaults."""
     ours, base = raw['shipped'], raw['defaults']
     calls = len(ours['round_trips'])
-    how = (f'{calls} one-angle calls through CamClient per copy, alternating blocks of {BLOCK}; '
-           'both copies (cam_node 50 Hz on one host, the client on another, joined by a veth '
-           'link) run at once; reference: the same with Fast DDS defaults.')
-    idle = (f'Over {IDLE_S:g} s after the calls: the 50 Hz joint_states to the client (which '
+    how = (f'{calls} one-angle calls through CamClient per copy, alternating blocks of '
+           f'{sizes.block}; both copies (cam_node 50 Hz on one host, the client on another, '
+           'joined by a veth link) run at once; reference: the same with Fast DDS defaults.')
+    idle_s = sizes.idle_s
+    idle = (f'Over {idle_s:g} s after the calls: the 50 Hz joint_states to the client (which '
             'subscribes), discovery and heartbeats only; node and client processes.')
     per_call = {key: {name: raw[name][key] / calls for name in raw}
                 for key in ('call_cpu_s', 'call_bytes')}
@@ -133,29 +141,29 @@ def figures(raw: dict[str, dict]) -> list[Figure]:
                per_call['call_bytes']['shipped'], 'B', 'Fast DDS defaults',
                per_call['call_bytes']['defaults']),
         Figure('profile_idle_cpu_percent', 'Shipped profile: idle CPU (node + client)',
-               100 * ours['idle_cpu_s'] / IDLE_S, '%', 'Fast DDS defaults',
-               100 * base['idle_cpu_s'] / IDLE_S, note=idle),
+               100 * ours['idle_cpu_s'] / idle_s, '%', 'Fast DDS defaults',
+               100 * base['idle_cpu_s'] / idle_s, note=idle),
         Figure('profile_idle_bytes_per_s', 'Shipped profile: idle bytes on the link',
-               ours['idle_bytes'] / IDLE_S, 'B/s', 'Fast DDS defaults',
-               base['idle_bytes'] / IDLE_S),
+               ours['idle_bytes'] / idle_s, 'B/s', 'Fast DDS defaults',
+               base['idle_bytes'] / idle_s),
     ]
 
 
-def main() -> int:
-    """Run both copies side by side and write the results."""
+def benchmark(sizes: ProfileSizes, json_path: Path, markdown_path: Path) -> str:
+    """Run both copies side by side, write the results and return the table."""
     start = time.perf_counter()
     links: dict[str, Link] = {}
+    copies: dict[str, Copy] = {}
     with tempfile.TemporaryDirectory(prefix='cam_ros_bench_') as folder:
         workdir = Path(folder)
         defaults = workdir / 'defaults.xml'
         defaults.write_text(DEFAULTS_XML)
-        profiles = {'shipped': str(REPO / 'config' / 'fastdds.xml'), 'defaults': str(defaults)}
-        copies: dict[str, Copy] = {}
+        profiles = {'shipped': str(fastdds_profile_path()), 'defaults': str(defaults)}
         try:
             for name, profile in profiles.items():
                 links[name] = Link(f'cb{os.getpid()}{name[0]}')
                 copies[name] = start_copy(links[name], profile, workdir)
-            raw = measure(copies)
+            raw = measure(copies, sizes)
             for copy in copies.values():
                 copy.stop()
         finally:
@@ -168,8 +176,13 @@ def main() -> int:
     header = {'date': datetime.now(timezone.utc).isoformat(timespec='seconds'),
               'machine': machine(), 'config': str(DEFAULT_CONFIG.relative_to(REPO)),
               'run_time_s': round(time.perf_counter() - start, 1)}
-    print(write_results(figures(raw), header, BENCH_DIR / 'middleware_results.json',
-                        BENCH_DIR / 'middleware_results.md'))
+    return write_results(figures(raw, sizes), header, json_path, markdown_path)
+
+
+def main() -> int:
+    """Run the published measurement and print the table."""
+    print(benchmark(ProfileSizes(), BENCH_DIR / 'middleware_results.json',
+                    BENCH_DIR / 'middleware_results.md'))
     return 0
 
 
