@@ -40,7 +40,7 @@ from cam_ros.joints import joint_coordinates
 from cam_ros.middleware import use_shipped_profile
 from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
                                      parameter_sources, ParameterSources, parse_command_line,
-                                     plain, ros_node_parameters, USAGE)
+                                     plain, ros_node_parameters, start_rclpy, USAGE)
 from cam_ros.paths import default_config_path
 from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
                                params_file, Recorder, TopicSpec)
@@ -359,10 +359,9 @@ def main(args: Sequence[str] | None = None) -> int:
         return _invalid(f'unrecognized arguments: {" ".join(command.user_args)} '
                         '(see cam_node --help)')
     use_shipped_profile()
-    try:
-        rclpy.init(args=command.ros_args)
-    except (RCLError, RuntimeError, ValueError) as err:  # a bad remapping or log argument
-        return _invalid(f'invalid ROS arguments: {err}')
+    problem = start_rclpy(command.ros_args)
+    if problem:  # a bad remapping or logging argument
+        return _invalid(f'invalid ROS arguments: {problem}')
     executor = SingleThreadedExecutor()  # made first, so a signal never lands inside its set-up
     node = None
     code = 0

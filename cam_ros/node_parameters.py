@@ -1,4 +1,4 @@
-"""cam_node's parameters: where they come from, and how they are declared to ROS.
+"""cam_node's command line and parameters: where they come from, how they reach ROS.
 
 The node reads its parameters itself, with the core's code, before it declares any: every
 ``--params-file`` in order, then every ``-p NAME:=VALUE``, as rcl would apply them, so a bad
@@ -11,12 +11,18 @@ types, so a wrong type is refused with a reason that names the parameter.
 from __future__ import annotations
 
 import array
+import os
+import re
+import sys
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 ParameterType)
+import rclpy
+from rclpy._rclpy_pybind11 import RCLError
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
@@ -169,6 +175,29 @@ def parse_command_line(argv: Sequence[str], default_file: Path) -> CommandLine:
                                namespace)
     return CommandLine(sources, [argv[0], '--ros-args', *ros_args] if ros_args else [argv[0]],
                        user_args)
+
+
+def start_rclpy(args: list[str]) -> str | None:
+    """Initialise rclpy with args; return rcl's complaint in one line, or None if it started.
+
+    rcl logs its complaint on stderr before it raises: that output is held back (and written out
+    if rclpy starts after all), so a bad ROS argument costs one line like any bad input.
+    """
+    sys.stderr.flush()
+    with tempfile.TemporaryFile() as held:
+        saved = os.dup(2)
+        os.dup2(held.fileno(), 2)
+        try:
+            rclpy.init(args=args)
+        except (RCLError, RuntimeError, ValueError) as err:
+            return re.sub(r', at \S+:\d+', '', str(err))  # without rcl's source locations
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        held.seek(0)
+        sys.stderr.buffer.write(held.read())
+        sys.stderr.flush()
+    return None
 
 
 def parameter_sources(params: ParameterSources | Path | str | None,

@@ -214,3 +214,17 @@ def test_use_sim_time_from_a_launch_params_file_reaches_the_node(start_cam_node,
                   str(launch)], tmp_path)
     assert_one_line(result, 'use_sim_time = 1: must be a bool')
     assert cli_line(launch, capsys).startswith('use_sim_time = 1: must be a bool')
+
+
+@pytest.mark.parametrize('arguments, expected', [
+    (['-r', 'bad_rule'], "invalid ROS arguments: failed to initialize rcl: Couldn't parse remap "
+                         "rule: '-r bad_rule'."),
+    (['--log-level', 'bogus'], "invalid ROS arguments: failed to initialize rcl: Couldn't parse "
+                               "log level: '--log-level bogus'."),
+    (['--params-file'], '--params-file = None: needs a value after it'),
+])
+def test_bad_ros_arguments_are_one_line_too(ros_domain, tmp_path, arguments, expected):
+    result = run([*NODE, '--ros-args', *arguments], tmp_path)
+    assert result.returncode == 2 and result.stdout == '', result
+    assert result.stderr.count('\n') == 1 and 'Traceback' not in result.stderr, result.stderr
+    assert result.stderr.startswith(f'cam_node: {expected}'), result.stderr
