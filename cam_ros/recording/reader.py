@@ -81,7 +81,7 @@ class Recording:
         wanted = None if topics is None else set(topics)
         classes: dict[str, type] = {}
         with open_file(self.path) as file:
-            for schema, channel, message in _iter_messages(file, self.complete):
+            for schema, channel, message in _iter_messages(file, self.complete, wanted):
                 if wanted is not None and channel.topic not in wanted:
                     continue
                 data: Any = message.data
@@ -176,11 +176,15 @@ def _recording(path: Path, complete: bool, schemas: Mapping[int, Schema],
         metadata=MappingProxyType({m.name: MappingProxyType(dict(m.metadata)) for m in metadata}))
 
 
-def _iter_messages(file: BinaryIO, complete: bool) -> Iterator[tuple[Optional[Schema], Channel,
-                                                                     Message]]:
-    """Yield (schema, channel, message): indexed for a finished file, streamed otherwise."""
+def _iter_messages(file: BinaryIO, complete: bool, topics: Optional[set[str]]
+                   ) -> Iterator[tuple[Optional[Schema], Channel, Message]]:
+    """Yield (schema, channel, message): indexed for a finished file, streamed otherwise.
+
+    With topics, a finished file's chunks holding none of them are not even read.
+    """
     if complete:
-        yield from SeekingReader(file).iter_messages(log_time_order=True)
+        yield from SeekingReader(file).iter_messages(
+            topics=None if topics is None else list(topics), log_time_order=True)
         return
     schemas: dict[int, Schema] = {}
     channels: dict[int, Channel] = {}
