@@ -212,3 +212,6 @@ def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_no
     assert (np.abs(np.diff(commands)) <= increments + 1e-9).all()
     log = process.log()
     assert 'design change pending' in log and 'design change applied at cam angle' in log
+    refused = set_parameters(executor, [Parameter('master.topic', value='/other')])
+    assert not refused.successful and refused.reason.startswith("master.topic = '/other'")
+    assert 'restart the node' in refused.reason
