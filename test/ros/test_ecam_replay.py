@@ -39,6 +39,9 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
                 for topic in ('/cam/master', '/cam/commands', '/cam/joint_states')}
     assert len(recorded['/cam/master']) == len(recorded['/cam/commands']) >= len(stream)
     sent = link.messages('commands')
+    statuses = {status.name: status.message for array in recording.messages(['/diagnostics'])
+                for status in array.message.status}
+    assert statuses['cam: recording'].startswith(f'recording to {folder}/cam_')
     assert [m.data[0] for m in recorded['/cam/commands']] == [m.data[0] for m in sent]
 
     second, _ = start_cam_node(DEFAULT, *ECAM, name='cam')
