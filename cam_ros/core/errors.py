@@ -13,19 +13,25 @@ _REPR.maxstring = _REPR.maxother = _REPR.maxlong = QUOTE_LIMIT + 2
 def quote(value: object) -> str:
     """Return repr(value), cut to QUOTE_LIMIT characters and saying how much was left out.
 
-    Only the first QUOTE_LIMIT entries or characters are ever formatted, so quoting a
-    million-entry list costs no more than quoting a short one.
+    A long string keeps its start and its end (a file name ends a path); a long list its first
+    entries. Only that much is ever formatted, so quoting a million-entry list costs no more
+    than quoting a short one.
     """
-    if isinstance(value, (str, list, tuple)):
-        text = _REPR.repr(value[:QUOTE_LIMIT])
-        unit = 'characters' if isinstance(value, str) else 'items'
-        size = f' ({len(value)} {unit})'
+    if isinstance(value, str):
+        text = repr(value)
+        if len(value) <= QUOTE_LIMIT and len(text) <= QUOTE_LIMIT:
+            return text
+        half = (QUOTE_LIMIT - 3) // 2
+        head, tail = repr(value[:half])[:half], repr(value[-half:])[-half:]
+        return f'{head}...{tail} ({len(value)} characters)'
+    if isinstance(value, (list, tuple)):
+        text, size = _REPR.repr(value[:QUOTE_LIMIT]), f' ({len(value)} items)'
     else:
-        text, unit, size = _REPR.repr(value), '', ''
+        text, size = _REPR.repr(value), ''
     if len(text) <= QUOTE_LIMIT:
         return text
     text = text[:QUOTE_LIMIT - 4]
-    if unit != 'characters' and ', ' in text:  # end on a whole entry
+    if ', ' in text:  # end on a whole entry
         text = text[:text.rfind(', ') + 2]
     return f'{text}...{size}'
 

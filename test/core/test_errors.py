@@ -22,9 +22,11 @@ def test_a_long_list_shows_whole_leading_entries_and_its_length():
     assert len(shown) <= QUOTE_LIMIT and shown.count('0.25') == shown.count(',')
 
 
-def test_a_long_string_shows_its_start_and_length():
-    text = quote('abc' * 1000)
-    assert text == repr('abc' * 1000)[:QUOTE_LIMIT - 4] + '... (3000 characters)'
+def test_a_long_string_shows_its_start_its_end_and_length():
+    text = quote('/' + 'd' * 1000 + '/cam.yaml')
+    assert text.startswith("'/ddd") and text.endswith("ddd/cam.yaml' (1010 characters)")
+    assert len(text.removesuffix(' (1010 characters)')) <= QUOTE_LIMIT
+    assert len(quote('\x00' * 1000)) <= QUOTE_LIMIT + len(' (1000 characters)')
 
 
 def test_nested_and_mapping_values_are_cut_too():

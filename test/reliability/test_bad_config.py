@@ -314,7 +314,7 @@ CASES = [
     Case('long_array_quoted_short', change(motion__start_deg=[float(i) for i in range(999)]),
          'motion.start_deg', '(999 items)', 'must have 4 entries, one per entry of motion.laws'),
     Case('huge_string', change(recording__directory='d' * 5000), 'recording.directory',
-         '... (5000 characters)', 'must have at most 4096 characters'),
+         "ddd' (5000 characters)", 'must have at most 4096 characters'),
     Case('huge_file', text(DEFAULT_TEXT + '#' * (1 << 20)), 'config', 'default.yaml',
          'is larger than 1048576 bytes, the most a parameters file may hold'),
     Case('deep_nesting', text(DEFAULT_TEXT + 'deep: ' + '[' * 1000 + ']' * 1000 + '\n'),

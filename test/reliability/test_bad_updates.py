@@ -61,7 +61,7 @@ UPDATES = [
     # Sizes: refused before anything is built, the value quoted in at most 100 characters.
     update('huge_array', 'motion.start_deg = [0.0, 0.0, ', '... (1000000 items): must have at '
            'most 1000 entries', motion__start_deg=[0.0] * 1_000_000),
-    update('huge_string', "recording.directory = 'ddd", '... (100000 characters): must have at '
+    update('huge_string', "recording.directory = 'ddd", "ddd' (100000 characters): must have at "
            'most 4096 characters', recording__directory='d' * 100_000),
     # Ranges: refused by rclpy from the declared descriptors.
     update('out_of_range', 'limits.pressure_angle_deg', 'out of range', '95.0',
