@@ -154,8 +154,9 @@ def test_clean_clone_sets_up_without_a_system_cmake(tmp_path, pytestconfig):
         assert f'CMAKE_COMMAND:INTERNAL={tree}/.venv/' in cache
         probe = ('import cam_ros, cam_ros_interfaces.srv as srv; request = srv.EvaluateCam.Request'
                  '(angles=[1.5]); print(request.angles[0], srv.__file__, cam_ros.__file__)')
+        # From a neutral folder: `python -c` imports from its working directory first.
         answer = subprocess.run([str(tree / '.venv/bin/python'), '-c', probe], env=env,
-                                capture_output=True, text=True, timeout=120)
+                                cwd=tmp_path, capture_output=True, text=True, timeout=120)
         value, interfaces, package = answer.stdout.split()
         assert float(value) == 1.5
         assert interfaces.startswith(f'{tree}/.venv/') and package.startswith(f'{tree}/'), answer
