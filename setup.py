@@ -15,7 +15,7 @@ setup(
         (f'share/{PACKAGE}', ['package.xml']),
         (f'share/{PACKAGE}/config', sorted(glob('config/*.yaml') + glob('config/*.xml'))),
     ],
-    python_requires='>=3.10',
+    python_requires='>=3.11',
     install_requires=['setuptools'],
     extras_require={
         'test': ['pytest', 'hypothesis', 'flake8', 'mypy', 'rosbags', 'mcap-ros2-support'],
