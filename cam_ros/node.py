@@ -147,10 +147,8 @@ class CamNode(Node):
                 values[param.name] = plain(param.value)
             self._pending = build_design(parse_parameters(values))
         except CamError as err:
-            self._pending = None
             return SetParametersResult(successful=False, reason=str(err))
         except Exception as err:  # a core bug must reject the update, not stop the node
-            self._pending = None
             self.get_logger().error(f'update rejected by an internal error: {err!r}')
             return SetParametersResult(successful=False, reason=f'internal error: {err!r}')
         return SetParametersResult(successful=True)
