@@ -119,6 +119,7 @@ class _Loader(Composer, _EventParser, SafeConstructor, Resolver):
         return node
 
     def _checked(self, node: Node) -> Node:
+        """Return node unless it is a scalar longer than MAX_STRING_LENGTH."""
         if isinstance(node, ScalarNode) and len(node.value) > MAX_STRING_LENGTH:
             raise InvalidParameter(self.dotted_name(), node.value,
                                    f'must have at most {MAX_STRING_LENGTH} characters')
