@@ -32,6 +32,8 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
                              velocity=() if k % 2 else (30.0 - 20.0 * ti,))
               for k, (ti, qi) in enumerate(zip(t.tolist(), q.tolist()))]
     link.send(stream)
+    # /diagnostics comes about once a second: wait for one that the recording holds too.
+    link.diagnostics('cam: recording', lambda values: values['message'].startswith('recording'))
     assert first.stop(signal.SIGINT) == 0, first.log()
     recording = open_recording(next(folder.glob('*.mcap')))
     assert recording.complete and RECORDED <= set(recording.topics)
