@@ -15,6 +15,12 @@ from cam_ros.core import CamDesign, InvalidParameter, build_design, load_config
 EXIT_OK = 0
 EXIT_FAILED = 1  # the design violates a limit, or a ROS call failed
 EXIT_INVALID = 2  # invalid config, arguments or input file
+#: The dynamics arrays `sample` and `call` add for a design with dynamics: (name, field, unit).
+DYNAMICS_FIELDS = (
+    ('contact_force', 'contact_force', 'N'),
+    ('camshaft_torque', 'camshaft_torque', 'Nm'),
+    ('contact_stress', 'contact_stress', 'Pa'),
+)
 
 
 def load_design(config: str | Path) -> CamDesign:
@@ -28,8 +34,11 @@ def say(command: str, message: str) -> None:
 
 
 def verdict(command: str, design: CamDesign) -> int:
-    """Return 0 if the design meets its limits, else print its warnings on stderr and return 1."""
-    if design.check.ok:
+    """Return 0 if the design meets its limits, else print its warnings on stderr and return 1.
+
+    The limits are the report's: geometry, and the follower's jump and contact stress.
+    """
+    if design.ok:
         return EXIT_OK
     for warning in design.warnings():
         say(command, f'warning: {warning}')

@@ -9,10 +9,11 @@ from typing import Any
 
 import numpy as np
 
-from cam_ros.commands.common import (degrees, dump_json, end_progress, EXIT_FAILED, EXIT_OK,
-                                     format_table, load_design, number, output_path, progress,
-                                     verdict, writing)
+from cam_ros.commands.common import (degrees, dump_json, DYNAMICS_FIELDS, end_progress,
+                                     EXIT_FAILED, EXIT_OK, format_table, load_design, number,
+                                     output_path, progress, verdict, writing)
 from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core.design import cam_degrees
 from cam_ros.core.dynamics_report import DynamicsReport
 from cam_ros.core.report import DesignReport, design_report, position_unit
 
@@ -32,12 +33,6 @@ SAMPLE_FIELDS = (
     ('d3position_dangle3', 'd3s', '{p}/rad^3'),
     ('pressure_angle', 'pressure_angle', 'rad'),
     ('radius_of_curvature', 'radius_of_curvature', 'm'),
-)
-#: The dynamics arrays `cam_ros sample` adds for a design with dynamics: (name, field, unit).
-DYNAMICS_FIELDS = (
-    ('contact_force', 'contact_force', 'N'),
-    ('camshaft_torque', 'camshaft_torque', 'Nm'),
-    ('contact_stress', 'contact_stress', 'Pa'),
 )
 
 
@@ -61,15 +56,15 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'limits': {'pressure_angle_deg': degrees(cfg.pressure_angle_limit),
                    'min_radius_of_curvature': cfg.min_radius_of_curvature},
         'pressure_angle_max_deg': degrees(report.pressure_angle_max),
-        'pressure_angle_max_at_deg': degrees(report.pressure_angle_max_at),
+        'pressure_angle_max_at_deg': cam_degrees(report.pressure_angle_max_at),
         'pressure_angle_min_deg': degrees(report.pressure_angle_min),
-        'pressure_angle_min_at_deg': degrees(report.pressure_angle_min_at),
+        'pressure_angle_min_at_deg': cam_degrees(report.pressure_angle_min_at),
         'pressure_angle_ok': design.check.pressure_angle_ok,
         'radius_of_curvature_min': report.radius_of_curvature_min,
-        'radius_of_curvature_min_at_deg': degrees(report.radius_of_curvature_min_at),
+        'radius_of_curvature_min_at_deg': cam_degrees(report.radius_of_curvature_min_at),
         'radius_of_curvature_ok': design.check.radius_ok,
         'undercut': report.undercut,
-        'cusp_angles_deg': [degrees(angle) for angle in report.cusp_angles],
+        'cusp_angles_deg': [cam_degrees(angle) for angle in report.cusp_angles],
         'min_base_radius': report.min_base_radius,
         'min_base_radius_governing': report.min_base_radius_governing,
         'max_base_radius': report.max_base_radius,
@@ -81,7 +76,7 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
             'end_position': s.s_end, 'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
             **dict(zip(PEAK_KEYS, s.peaks_at_speed(omega)))} for s in report.segments],
         'continuity': [{
-            'angle_deg': degrees(jump.angle), 'order': jump.order,
+            'angle_deg': cam_degrees(jump.angle), 'order': jump.order,
             'derivative': ORDER_NAMES[jump.order], 'jump': jump.jump, 'left': jump.left,
             'right': jump.right, 'unit': f'{unit}/rad^{jump.order}' if jump.order else unit,
             'segment': jump.segment} for jump in report.continuity],
@@ -101,21 +96,22 @@ def dynamics_data(dynamics: DynamicsReport | None) -> dict[str, Any]:
     return {
         'dynamics': True,
         'contact_force_min': d.contact_force_min,
-        'contact_force_min_deg': degrees(d.contact_force_min_at),
+        'contact_force_min_deg': cam_degrees(d.contact_force_min_at),
         'contact_force_max': d.contact_force_max,
-        'contact_force_max_deg': degrees(d.contact_force_max_at),
+        'contact_force_max_deg': cam_degrees(d.contact_force_max_at),
         'jump': d.jump,
-        'jump_angles_deg': [[degrees(start), degrees(end)] for start, end in d.jump_angles],
+        'jump_angles_deg': [[cam_degrees(start), cam_degrees(end, end=True)]
+                            for start, end in d.jump_angles],
         'jump_speed': d.jump_speed,
         'spring_preload': d.spring_preload,
         'spring_preload_needed': d.spring_preload_needed,
         'camshaft_torque_max': d.camshaft_torque_max,
-        'camshaft_torque_max_deg': degrees(d.camshaft_torque_max_at),
+        'camshaft_torque_max_deg': cam_degrees(d.camshaft_torque_max_at),
         'camshaft_torque_rms': d.camshaft_torque_rms,
         'power_max': d.power_max,
         'cycle_work': d.cycle_work,
         'contact_stress_max': d.contact_stress_max,
-        'contact_stress_max_deg': degrees(d.contact_stress_max_at),
+        'contact_stress_max_deg': cam_degrees(d.contact_stress_max_at),
         'contact_half_width': d.contact_half_width,
         'contact_stress_limit': d.contact_stress_limit,
         'contact_stress_ok': d.contact_stress_ok,
@@ -149,7 +145,7 @@ def _continuity_table(report: DesignReport) -> str:
     unit = position_unit(report.design)
     if not report.continuity:
         return '  none: s and its first three derivatives are continuous'
-    rows = [(f'{math.degrees(j.angle):.2f}', ORDER_NAMES[j.order], number(j.left),
+    rows = [(f'{cam_degrees(j.angle, 2):.2f}', ORDER_NAMES[j.order], number(j.left),
              number(j.right), f'{j.jump:+.6g}', f'{unit}/rad^{j.order}' if j.order else unit)
             for j in report.continuity]
     table = format_table(('at deg', 'of', 'left', 'right', 'jump', 'unit'), rows)
@@ -164,9 +160,9 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
     config, omega = design.dynamics.config, design.config.cam_speed
     oscillating = position_unit(design) == 'rad'
     force, rate, inertia = ('N m', 'N m/rad', 'kg m^2') if oscillating else ('N', 'N/m', 'kg')
-    stays = (('LEAVES the cam at ' + ', '.join(
-        f'{math.degrees(a):.1f}-{math.degrees(b):.1f}' for a, b in d.jump_angles) + ' deg')
-        if d.jump else 'the follower stays on the cam')
+    stays = ('LEAVES the cam at ' + ', '.join(
+        f'{cam_degrees(a, 1):.1f}-{cam_degrees(b, 1, end=True):.1f}'
+        for a, b in d.jump_angles) + ' deg') if d.jump else 'the follower stays on the cam'
     speed = 'never' if d.jump_speed is None else (
         f'{number(d.jump_speed, 5)} rad/s ({number(d.jump_speed * 30.0 / math.pi, 5)} rpm), '
         f'{d.jump_speed / omega:.3g} x the cam speed')
@@ -178,21 +174,21 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
                      f'{number(config.damping_ratio)} of critical, external load '
                      f'{number(config.external_force)} {force}'),
         ('Contact force', f'min {number(d.contact_force_min)} N at '
-                          f'{math.degrees(d.contact_force_min_at):.1f} deg, max '
+                          f'{cam_degrees(d.contact_force_min_at, 1):.1f} deg, max '
                           f'{number(d.contact_force_max)} N at '
-                          f'{math.degrees(d.contact_force_max_at):.1f} deg'),
+                          f'{cam_degrees(d.contact_force_max_at, 1):.1f} deg'),
         ('', stays),
         ('Jump speed', speed),
         ('Spring preload', f'{number(d.spring_preload)} {force}; needed for safety factor '
                            f'{number(config.jump_safety_factor)}: '
                            f'{number(d.spring_preload_needed)} {force}'),
         ('Camshaft torque', f'max |T| {number(d.camshaft_torque_max)} N m at '
-                            f'{math.degrees(d.camshaft_torque_max_at):.1f} deg, rms '
+                            f'{cam_degrees(d.camshaft_torque_max_at, 1):.1f} deg, rms '
                             f'{number(d.camshaft_torque_rms)} N m'),
         ('', f'peak power {number(d.power_max)} W; net work per revolution '
              f'{number(d.cycle_work)} J (damping and friction)'),
         ('Contact stress', f'max {number(d.contact_stress_max / 1e6)} MPa at '
-                           f'{math.degrees(d.contact_stress_max_at):.1f} deg, half-width '
+                           f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg, half-width '
                            f'{number(d.contact_half_width * 1e3)} mm; {limit}'),
     ]
 
@@ -210,16 +206,16 @@ def format_report(report: DesignReport, config: str) -> str:
                 f'({number(cfg.cam_speed * 30.0 / math.pi)} rpm); lengths in SI (config: '
                 f'{cfg.length_unit})'),
         ('Pressure angle', f'max {math.degrees(report.pressure_angle_max):.2f} deg at '
-                           f'{math.degrees(report.pressure_angle_max_at):.1f} deg, min '
+                           f'{cam_degrees(report.pressure_angle_max_at, 1):.1f} deg, min '
                            f'{math.degrees(report.pressure_angle_min):.2f} deg at '
-                           f'{math.degrees(report.pressure_angle_min_at):.1f} deg'),
+                           f'{cam_degrees(report.pressure_angle_min_at, 1):.1f} deg'),
         ('', f'limit |pressure angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
         ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m '
-                                f'at {math.degrees(report.radius_of_curvature_min_at):.1f} deg'),
+                                f'at {cam_degrees(report.radius_of_curvature_min_at, 1):.1f} deg'),
         ('', f'limit >= {number(cfg.min_radius_of_curvature)} m: '
              f'{_limit_state(check.radius_ok)}'),
         ('Undercut', 'YES, cusps at ' + ', '.join(
-            f'{math.degrees(a):.1f}' for a in report.cusp_angles) + ' deg'
+            f'{cam_degrees(a, 1):.1f}' for a in report.cusp_angles) + ' deg'
             if report.undercut else 'none'),
         ('Base radius', f'{number(design.follower.base_radius)} m; smallest meeting the limits: '
                         + (f'{number(report.min_base_radius)} m (set by '

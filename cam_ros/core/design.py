@@ -9,7 +9,7 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -22,6 +22,9 @@ from .geometry import (CamGeometry, Follower, GeometryCheck, OscillatingFlat, Os
                        contact_measures)
 from .laws import MotionLaw, make_law
 from .program import MotionProgram, Segment
+
+if TYPE_CHECKING:
+    from .dynamics_report import DynamicsReport
 
 TWO_PI = 2.0 * math.pi
 #: Samples per revolution for the design checks (pressure angle, curvature, undercut).
@@ -111,8 +114,20 @@ class CamDesign:
                               min_radius=self.config.min_radius_of_curvature,
                               program=self.program)
 
+    @cached_property
+    def dynamics_check(self) -> DynamicsReport | None:
+        """Return the refined dynamics figures at the cam speed, None without dynamics."""
+        from .dynamics_report import dynamics_report  # that module builds on this one
+        return dynamics_report(self)
+
+    @property
+    def ok(self) -> bool:
+        """Return True when the design meets its limits, is not undercut and does not jump."""
+        dynamics = self.dynamics_check
+        return self.check.ok and (dynamics is None or dynamics.ok)
+
     def warnings(self) -> list[str]:
-        """Say, once, what a designer must know: limits broken, undercut, discontinuities."""
+        """Say, once, what a designer must know: limits broken, undercut, discontinuities, jump."""
         check, notes = self.check, []
         if check.pressure_angle_ok is False:
             notes.append(f'pressure angle reaches {math.degrees(check.max_pressure_angle):.2f} deg'
@@ -132,6 +147,17 @@ class CamDesign:
                 name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
                 notes.append(f'{name} jumps by {jump.jump:.6g} {unit}/rad^{jump.order} at '
                              f'{math.degrees(jump.angle):.2f} deg')
+        dynamics = self.dynamics_check
+        if dynamics is None:
+            return notes
+        for start, end in dynamics.jump_angles:
+            notes.append(f'the follower leaves the cam between {cam_degrees(start, 1):.1f} and '
+                         f'{cam_degrees(end, 1, end=True):.1f} deg at '
+                         f'{self.config.cam_speed:.6g} rad/s')
+        if dynamics.contact_stress_ok is False:
+            notes.append(f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
+                         f'{cam_degrees(dynamics.contact_stress_max_at, 1):.1f} deg, over the '
+                         f'allowable {cast(float, dynamics.contact_stress_limit) / 1e6:.6g} MPa')
         return notes
 
     def summary(self) -> str:
@@ -144,6 +170,16 @@ class CamDesign:
                 f'{self.config.cam_speed:g} rad/s: {laws}; max |pressure angle| '
                 f'{math.degrees(check.max_pressure_angle):.2f} deg, min radius of curvature '
                 f'{check.min_radius:.6g} m')
+
+
+def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
+    """Return a cam angle (rad) in degrees rounded to digits: in [0, 360), or (0, 360] for an end.
+
+    A position just short of a full turn reads 0, never 360; the end of a span reaching the
+    full turn reads 360.
+    """
+    degrees = round(math.degrees(angle), digits) % 360.0
+    return 360.0 if end and degrees == 0.0 else degrees
 
 
 def check_angles(angles: np.ndarray, max_batch: int) -> str | None:

@@ -14,7 +14,7 @@ from typing import Optional
 import numpy as np
 
 from .design import CHECK_SAMPLES, CamDesign
-from .dynamics_report import DynamicsReport, dynamics_report
+from .dynamics_report import DynamicsReport
 from .geometry import TranslatingRoller
 from .program import Discontinuity, SegmentSummary
 from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
@@ -67,7 +67,7 @@ class DesignReport:
     @property
     def ok(self) -> bool:
         """Return True when the design meets its limits, is not undercut and does not jump."""
-        return self.design.check.ok and (self.dynamics is None or self.dynamics.ok)
+        return self.design.ok
 
 
 def position_unit(design: CamDesign) -> str:
@@ -120,5 +120,5 @@ def design_report(design: CamDesign) -> DesignReport:
         continuity=design.program.continuity_report(),
         quick_estimate=quick_estimate(design),
         warnings=tuple(design.warnings()),
-        dynamics=dynamics_report(design),
+        dynamics=design.dynamics_check,
     )

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -139,3 +140,58 @@ def test_plot_adds_geometry_and_dynamics_panels(tmp_path, capsys):
     assert run_cli(capsys, 'plot', DEFAULT_CONFIG, '-o', plain).code == 0
     assert 'pressure angle (deg)' in plain.read_text()
     assert 'contact force' not in plain.read_text()
+
+
+def jump_span_deg(omega: float) -> tuple[float, float]:
+    """Return where the cosine cam's closed-form contact force is negative (deg)."""
+    start = math.degrees(math.acos(-(K * H / 2 + P) / ((M * omega ** 2 - K) * H / 2)))
+    return start, 360.0 - start
+
+
+def test_every_command_fails_a_jumping_design_as_the_report_does(tmp_path, capsys):
+    omega = 1.2 * math.sqrt((2 * K + 2 * P / H) / M)
+    config = cosine_cam(tmp_path, omega)
+    start, end = jump_span_deg(omega)
+    warning = (f'the follower leaves the cam between {start:.1f} and {end:.1f} deg at '
+               f'{omega:.6g} rad/s')
+    data = json.loads(run_cli(capsys, 'report', config, '--json').out)
+    assert data['ok'] is False and warning in data['warnings'], data['warnings']
+    for argv in (['sample', config, '--json'], ['plot', config, '-o', tmp_path / 'jump.svg']):
+        run = run_cli(capsys, *argv)
+        assert run.code == 1, argv
+        assert f'cam_ros {argv[0]}: warning: {warning}' in run.err.splitlines(), run.err
+
+
+def test_every_command_fails_a_design_over_the_allowable_stress(tmp_path, capsys):
+    config = cosine_cam(tmp_path, limits={'contact_stress': 1e8})
+    force = K * H + P - M * 30.0 ** 2 * H / 2  # at 180 deg, where the spring is most compressed
+    peak = math.sqrt(force / (WIDTH_MM * 1e-3) * E_STAR / (math.pi * (RB + H / 2)))
+    warning = (f'contact stress reaches {peak / 1e6:.6g} MPa at 180.0 deg, over the '
+               'allowable 100 MPa')
+    assert warning in json.loads(run_cli(capsys, 'report', config, '--json').out)['warnings']
+    run = run_cli(capsys, 'sample', config, '--step-deg', '30')
+    assert run.code == 1 and run.err.splitlines() == [f'cam_ros sample: warning: {warning}']
+
+
+def test_a_design_within_its_dynamics_limits_passes_every_command(tmp_path, capsys):
+    config = cosine_cam(tmp_path, limits={'contact_stress': 1e9})
+    assert json.loads(run_cli(capsys, 'report', config, '--json').out)['warnings'] == []
+    run = run_cli(capsys, 'sample', config, '--step-deg', '30')
+    assert run.code == 0 and run.err == ''
+
+
+def test_no_cam_angle_prints_as_360_degrees(capsys):
+    # The shipped example's least contact force is the preload P = 80 N on its closing dwell
+    # (280-360 deg, s = 0, pressure angle 0): a refined minimum there may sit just short of 360.
+    text = run_cli(capsys, 'report', CONFIG_DIR / 'machine_dynamics.yaml').out
+    (line,) = [line for line in text.splitlines() if line.startswith('Contact force')]
+    at = float(line.split(' at ')[1].split()[0])
+    assert line.split()[3] == '80' and (at == 0.0 or 280.0 <= at < 360.0), line
+    angles = [float(angle) for angle in re.findall(r' at (\S+) deg', text)]
+    assert angles and max(angles) < 360.0
+    data = json.loads(run_cli(capsys, 'report', CONFIG_DIR / 'machine_dynamics.yaml',
+                              '--json').out)
+    for key in ('contact_force_min_deg', 'contact_force_max_deg', 'camshaft_torque_max_deg',
+                'contact_stress_max_deg', 'pressure_angle_max_at_deg',
+                'radius_of_curvature_min_at_deg'):
+        assert 0.0 <= data[key] < 360.0, (key, data[key])
