@@ -22,8 +22,8 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from cam_ros.client import CamClient, CamClientError
-from cam_ros.commands.common import (dump_json, EXIT_FAILED, EXIT_OK, format_table, number,
-                                     say)
+from cam_ros.commands.common import (dump_json, DYNAMICS_FIELDS, EXIT_FAILED, EXIT_OK,
+                                     format_table, number, say)
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
 from cam_ros.middleware import use_shipped_profile
@@ -34,8 +34,6 @@ UNIT_QUERY_TIMEOUT_S = 1.0  # most time spent asking the node for its follower t
 POLL_S = 0.05  # spin slice of the echo loop
 ECHO_DEPTH = 10
 SIMILAR_NAMES = 5  # most similar names an error lists
-CALL_FIELDS = ('position', 'velocity', 'acceleration', 'jerk', 'pressure_angle',
-               'radius_of_curvature')
 
 
 @contextmanager
@@ -116,10 +114,12 @@ def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
     return 'rad' if response.values[0].string_value.startswith('oscillating') else 'm'
 
 
-def _call_units(unit: str) -> dict[str, str]:
+def _call_units(unit: str, dynamics: bool) -> dict[str, str]:
+    """Return the unit of each array of a call's answer (dynamics: it has the force arrays)."""
     return {'angle': 'rad', 'position': unit, 'velocity': f'{unit}/s',
             'acceleration': f'{unit}/s^2', 'jerk': f'{unit}/s^3', 'pressure_angle': 'rad',
-            'radius_of_curvature': 'm'}
+            'radius_of_curvature': 'm',
+            **{name: dimension for name, _, dimension in DYNAMICS_FIELDS if dynamics}}
 
 
 def call(angles: Sequence[float], degrees: bool = False, json_output: bool = False,
@@ -140,19 +140,20 @@ def call(angles: Sequence[float], degrees: bool = False, json_output: bool = Fal
             return EXIT_FAILED
         executor.add_node(node)
         unit = _position_unit(node, executor, service, deadline)
-    columns = {'angle': values, **{name: getattr(result, name) for name in CALL_FIELDS}}
-    units = _call_units(unit)
+    units = _call_units(unit, dynamics=result.contact_force.size > 0)  # empty: no dynamics
+    columns = {name: values if name == 'angle' else getattr(result, name) for name in units}
     if json_output:
         print(dump_json({'service': service, 'units': units, **columns}))
         return EXIT_OK
-    headers = ['angle (deg)', 'angle (rad)'] + [
-        f'{name.replace("_", " ")} ({"deg" if name == "pressure_angle" else units[name]})'
-        for name in CALL_FIELDS]
-    rows = [[f'{math.degrees(row[0]):.4f}', number(row[0])]
-            + [number(value) for value in row[1:-2]]
-            + [f'{math.degrees(row[-2]):.4f}', number(row[-1])]
-            for row in np.column_stack(list(columns.values())).tolist()]
-    print(format_table(headers, rows))
+    table = {'angle (deg)': np.degrees(values)}  # and the pressure angle in deg
+    for name, array in columns.items():
+        degree = name == 'pressure_angle'
+        shown = f'{name.replace("_", " ")} ({"deg" if degree else units[name]})'
+        table[shown] = np.degrees(array) if degree else array
+    rows = [[f'{value:.4f}' if header.endswith('(deg)') else number(value)
+             for header, value in zip(table, row)]
+            for row in np.column_stack(list(table.values())).tolist()]
+    print(format_table(list(table), rows))
     return EXIT_OK
 
 

@@ -5,12 +5,13 @@ import csv
 import io
 import json
 import math
+import re
 import time
 
 import numpy as np
 import pytest
 import yaml
-from cli_support import DEFAULT_CONFIG, follower_config, run_cli
+from cli_support import CONFIG_DIR, DEFAULT_CONFIG, follower_config, run_cli
 
 from cam_ros.commands.common import load_design
 
@@ -39,6 +40,7 @@ def test_call_prints_the_designs_values_as_json_and_as_a_table(cam_node, capsys)
                   'radius_of_curvature'):
         np.testing.assert_array_equal(data[field], getattr(expected, field), err_msg=field)
     assert data['units']['position'] == 'm' and data['units']['jerk'] == 'm/s^3'
+    assert 'contact_force' not in data and 'contact_force' not in data['units']  # no dynamics
     # Seed 000's table: the follower is 0.780 cm up at 130 deg.
     assert data['position'][1] == pytest.approx(0.780e-2, abs=5e-6)
 
@@ -57,6 +59,31 @@ def test_call_prints_the_designs_values_as_json_and_as_a_table(cam_node, capsys)
     assert float(cells[2]) == pytest.approx(expected.position[1], rel=1e-5)
     assert float(cells[6]) == pytest.approx(math.degrees(expected.pressure_angle[1]), abs=1e-4)
     assert float(cells[7]) == pytest.approx(expected.radius_of_curvature[1], rel=1e-5)
+    assert len(cells) == 8 and 'contact' not in header
+
+
+def test_call_prints_the_dynamics_arrays_of_a_design_with_dynamics(start_cam_node, capsys):
+    config = CONFIG_DIR / 'machine_dynamics.yaml'
+    start_cam_node(config)
+    run = run_cli(capsys, 'call', '37', '95', '233', '--deg', '--json',
+                  '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 0, run.err
+    data = json.loads(run.out)
+    forces = load_design(config).evaluate(np.radians([37.0, 95.0, 233.0])).dynamics
+    units = {'contact_force': 'N', 'camshaft_torque': 'Nm', 'contact_stress': 'Pa'}
+    for field, unit in units.items():
+        assert data['units'][field] == unit
+        np.testing.assert_array_equal(data[field], getattr(forces, field), err_msg=field)
+
+    run = run_cli(capsys, 'call', '95', '--deg', '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 0, run.err
+    header, row = run.out.splitlines()
+    assert re.split(r'\s{2,}', header.strip())[-3:] == [
+        'contact force (N)', 'camshaft torque (Nm)', 'contact stress (Pa)']
+    cells = [float(cell) for cell in row.split()[-3:]]
+    forces = load_design(config).evaluate([math.radians(95.0)]).dynamics
+    for cell, field in zip(cells, units):
+        assert cell == pytest.approx(getattr(forces, field)[0], rel=1e-5), field
 
 
 def test_call_reports_units_of_an_oscillating_follower(start_cam_node, tmp_path, capsys):
