@@ -5,6 +5,7 @@ import signal
 import time
 
 import numpy as np
+import yaml
 from conftest import CONFIG_DIR
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
@@ -76,3 +77,28 @@ def test_a_design_without_dynamics_answers_empty_arrays(start_cam_node, executor
     assert len(table.data) == 0 and [d.size for d in table.layout.dim] == [0, 0]
     state = Inbox(listener, JointState, '/cam/joint_states', QoSProfile(depth=5)).wait()[0]
     assert len(state.effort) == 0
+
+
+def test_a_clockwise_cam_publishes_minus_the_camshaft_torque_and_logs_its_jump(
+        start_cam_node, executor, tmp_path):
+    parameters = yaml.safe_load(MACHINE.read_text())
+    cam = parameters['/**']['ros__parameters']
+    cam['rotation'], cam['cam_speed'] = 'clockwise', 80.0  # over its jump speed (about 62 rad/s)
+    config = tmp_path / 'clockwise.yaml'
+    config.write_text(yaml.safe_dump(parameters))
+    process, _ = start_cam_node(config)
+    design = build_design(load_config(config))
+    listener = executor.node('clockwise_listener')
+    states = Inbox(listener, JointState, '/cam/joint_states', QoSProfile(depth=50)).wait(20)
+    cam_joint = np.array([state.position[0] for state in states])
+    assert np.all(cam_joint <= 0.0)  # q = -theta: the cam turns about -z
+    expected = design.evaluate(-cam_joint).dynamics  # the core's angle theta = -q
+    assert np.abs(expected.camshaft_torque).max() > 1.0  # not only dwells: the sign is seen
+    np.testing.assert_allclose([state.effort[0] for state in states], -expected.camshaft_torque,
+                               rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose([state.effort[1] for state in states], expected.contact_force,
+                               rtol=1e-12, atol=1e-9)
+    warnings = design.warnings()
+    assert any(warning.startswith('the follower leaves the cam between') for warning in warnings)
+    log = process.log()
+    assert all(warning in log for warning in warnings), log
