@@ -5,6 +5,7 @@
     client = CamClient(node)                      # node: any rclpy node of yours
     result = client.evaluate([0.0, 1.5], timeout=1.0, retries=2)
     result.position, result.pressure_angle        # NumPy arrays, SI, one entry per angle
+    result.contact_force, result.camshaft_torque  # with dynamics (empty arrays without)
 
 What it takes care of:
 
