@@ -16,6 +16,7 @@ import numpy.typing as npt
 from .design import CHECK_SAMPLES, TWO_PI, CamDesign
 from .dynamics import DynamicsValues
 from .extremes import refine_extremum, refine_roots
+from .geometry_check import motion_breaks
 
 Array = npt.NDArray[np.float64]
 
@@ -69,12 +70,6 @@ class DynamicsReport:
         return not self.jump and self.contact_stress_ok is not False
 
 
-def motion_breaks(design: CamDesign) -> Array:
-    """Return the cam angles (rad) where the motion or a derivative may jump."""
-    return np.array([segment.start + at * segment.span for segment in design.program.segments
-                     for at in (0.0, *segment.law.breakpoints)])
-
-
 def _negative_spans(func: Callable[[Array], Array], theta: Array, values: Array,
                     breaks: Array) -> tuple[tuple[float, float], ...]:
     """Return the (start, end) angle spans where func < 0, ends refined, wrapping through 0."""
@@ -94,7 +89,7 @@ def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
         return None
     config = model.config
     theta = np.linspace(0.0, TWO_PI, CHECK_SAMPLES, endpoint=False)
-    breaks = motion_breaks(design)
+    breaks = motion_breaks(design.program)
 
     def values(angles: Array) -> DynamicsValues:
         return cast(DynamicsValues, design.evaluate(angles).dynamics)

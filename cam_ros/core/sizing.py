@@ -16,9 +16,10 @@ from typing import Callable, Optional
 import numpy as np
 
 from .errors import InvalidParameter
-from .geometry import (
-    _abs_pressure_angle, _check_follower, _check_limits, _check_motion, _Extremes,
-    _pressure_limit, _radius_margin, _real, _worst_curvature, Follower, Measure,
+from .geometry import _check_follower, _check_motion, _real, Follower
+from .geometry_check import (
+    _abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
+    _worst_curvature, Measure,
 )
 from .program import MotionProgram
 

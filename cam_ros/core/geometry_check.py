@@ -1,0 +1,277 @@
+"""Check a cam geometry against its limits: pressure angle, curvature, undercut, face width.
+
+The extremes of the geometry's measures are found on the samples and, given the motion program,
+refined between them on the exact motion (:mod:`.extremes`), so the limits are checked between
+the samples too; cusps are then roots of a smooth undercut margin. The base-radius sizing
+(:mod:`.sizing`) solves on the same margins.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Optional, Sequence
+
+import numpy as np
+
+from .errors import InvalidParameter
+from .extremes import refine_extrema, refine_roots, TWO_PI
+from .geometry import _frozen, _real, CamGeometry, Follower, ROLLERS
+from .program import MotionProgram
+
+Array = np.ndarray
+
+Measure = Callable[[Any], Array]  # of a CamGeometry or a _Profile: the same attribute names
+
+
+def motion_breaks(program: MotionProgram) -> Array:
+    """Return the cam angles (rad) where the motion or a derivative may jump.
+
+    Every segment joint and every breakpoint inside a piecewise law.
+    """
+    return np.array([segment.start + at * segment.span for segment in program.segments
+                     for at in (0.0, *segment.law.breakpoints)])
+
+
+class _Extremes:
+    """Extremes and zeros of a geometry's measures, refined on the exact motion when given.
+
+    sampled holds the measures at the angles theta (a CamGeometry, or the raw _Profile when the
+    cam-frame coordinates are not needed). With a program, every extreme is refined from its
+    grid bracket on the exact geometry (see extremes.py); without one, the grid's values are
+    taken as they are.
+    """
+
+    def __init__(self, follower: Follower, clockwise: bool, theta: Array, sampled: Any,
+                 program: Optional[MotionProgram]):
+        self._follower, self._sigma = follower, -1 if clockwise else 1
+        self._sampled, self._program = sampled, program
+        theta = np.asarray(theta)
+        if program is not None:
+            theta = np.mod(theta, TWO_PI)
+        order = np.argsort(theta, kind='stable')
+        distinct = np.concatenate(([True], np.diff(theta[order]) > 0.0))
+        self._order, self._theta = order[distinct], theta[order][distinct]
+        self._breaks = None if program is None else motion_breaks(program)
+
+    def _function(self, measures: Sequence[Measure]) -> Callable[[Array], Array]:
+        """Return the exact measures as a function of cam angles (one row per measure)."""
+        follower, sigma, program = self._follower, self._sigma, self._program
+        assert program is not None
+
+        def func(angles: Array) -> Array:
+            motion = program.evaluate(angles)
+            profile = follower._geometry(angles, sigma, motion.s, motion.ds, motion.d2s)
+            return np.array([measure(profile) for measure in measures])
+        return func
+
+    def extremes(self, wanted: Sequence[tuple[Measure, str]]) -> list[tuple[float, float]]:
+        """Return (value, angle) of each (measure, 'max' or 'min') wanted, refined together."""
+        measures = [measure for measure, _ in wanted]
+        values = np.array([measure(self._sampled) for measure in measures])[:, self._order]
+        if self._program is None or self._theta.size < 3:
+            found = []
+            for row, (_, kind) in enumerate(wanted):
+                index = int(np.argmax(values[row]) if kind == 'max' else np.argmin(values[row]))
+                found.append((float(values[row, index]), float(self._theta[index])))
+            return found
+        return refine_extrema(self._function(measures), self._theta, values,
+                              [kind for _, kind in wanted], breaks=self._breaks)
+
+    def zeros(self, measure: Measure, inside: Optional[float] = None) -> Array:
+        """Return the angles where the measure changes sign (grid: interpolated).
+
+        inside, an angle (rad) where the measure is known to be <= 0, joins the grid, so that a
+        dip below zero between two samples is bracketed too.
+        """
+        values = np.asarray(measure(self._sampled))[self._order]
+        if self._program is None or values.size < 3:
+            return _zero_crossings(self._theta, values)
+        exact = self._function([measure])
+        theta = self._theta
+        if inside is not None:
+            at = float(np.mod(inside, TWO_PI))
+            place = int(np.searchsorted(theta, at))
+            if place == theta.size or theta[place] != at:
+                theta = np.insert(theta, place, at)
+                values = np.insert(values, place, exact(np.array([at]))[0, 0])
+        return refine_roots(lambda angles: exact(angles)[0], theta, values, breaks=self._breaks)
+
+
+def _pressure_angle_of(measures: Any) -> Array:
+    return measures.pressure_angle
+
+
+def _abs_pressure_angle(measures: Any) -> Array:
+    return np.abs(measures.pressure_angle)
+
+
+def _curvature(measures: Any) -> Array:
+    return measures.pitch_curvature
+
+
+def _surface_radius(measures: Any) -> Array:
+    return measures.surface_radius
+
+
+def _contact_offset(measures: Any) -> Array:
+    return measures.contact_offset
+
+
+def _undercut_measure(follower: Follower) -> Measure:
+    """Return a smooth margin that is <= 0 exactly where the surface is undercut or has a cusp.
+
+    Roller: 1 - Rr * kappa_pitch (<= 0 where 0 < rho_pitch <= Rr); flat face: rho.
+    """
+    if isinstance(follower, ROLLERS):
+        roller = follower.roller_radius
+        return lambda measures: 1.0 - roller * measures.pitch_curvature
+    return _surface_radius
+
+
+def _worst_curvature(follower: Follower) -> tuple[Measure, str]:
+    """Return the measure and kind that bound the surface radius from below.
+
+    The largest pitch curvature for rollers, the smallest surface radius for flat faces.
+    """
+    if isinstance(follower, ROLLERS):
+        return _curvature, 'max'
+    return _surface_radius, 'min'
+
+
+def _radius_margin(follower: Follower, worst: float, min_radius: float) -> float:
+    """Return a number >= 0 exactly when every convex part of the surface has rho >= min_radius.
+
+    worst is _worst_curvature's value.
+    """
+    if isinstance(follower, ROLLERS):
+        return 1.0 / (min_radius + follower.roller_radius) - worst
+    return worst - min_radius
+
+
+def _zero_crossings(theta: Array, margin: Array) -> Array:
+    """Return the angles where margin reaches zero, interpolated between neighbouring angles."""
+    order = np.argsort(theta, kind='stable')
+    theta, margin = theta[order], margin[order]
+    exact = theta[margin == 0.0]
+    a, b = margin[:-1], margin[1:]
+    change = (a * b < 0.0)
+    ta, tb = theta[:-1][change], theta[1:][change]
+    between = ta + (tb - ta) * a[change] / (a[change] - b[change])
+    return np.sort(np.concatenate((exact, between)))
+
+
+def _pressure_limit(value: object) -> float:
+    """Return a pressure-angle limit (rad) after checking it lies in (0, pi/2)."""
+    return _real('max_pressure_angle', value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
+
+
+def _check_limits(max_pressure_angle: Optional[float],
+                  min_radius: Optional[float]) -> tuple[Optional[float], Optional[float]]:
+    """Validate the optional pressure-angle (rad) and radius (m, >= 0) limits."""
+    angle = None if max_pressure_angle is None else _pressure_limit(max_pressure_angle)
+    radius = None if min_radius is None else _real('min_radius', min_radius,
+                                                   lambda x: x >= 0.0, '>= 0 (m)')
+    return angle, radius
+
+
+@dataclass(frozen=True, eq=False)
+class GeometryCheck:
+    """Engineering verdict on a cam geometry: undercut, pressure angle, curvature, face width.
+
+    Extremes are refined on the exact motion when check_geometry was given the program, else
+    they are the samples' (see check_geometry). undercut_angles are the sampled cam angles (rad)
+    where the surface is undercut or has a cusp (convex surface radius <= 0: 0 < rho_pitch <= Rr
+    for rollers, rho <= 0 for flat faces), with the refined worst angle added when only it is;
+    cusp_angles are where that starts or ends. min_radius is the smallest radius of curvature of
+    the convex parts of the surface (m; inf if none is convex). The *_ok fields are None when no
+    limit was given. face_min/face_max (m) bound the contact offset on a flat face (None for
+    rollers): the face must reach from face_min to face_max. pressure_angle_high/low are the
+    signed extremes of the pressure angle (rad) and the angles where they occur.
+    """
+
+    undercut_angles: Array
+    cusp_angles: Array
+    max_pressure_angle: float
+    max_pressure_angle_at: float
+    pressure_angle_limit: Optional[float]
+    pressure_angle_ok: Optional[bool]
+    min_radius: float
+    min_radius_at: float
+    radius_limit: Optional[float]
+    radius_ok: Optional[bool]
+    face_min: Optional[float]
+    face_max: Optional[float]
+    pressure_angle_high: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_low: tuple[float, float] = (math.nan, math.nan)
+
+    @property
+    def undercut(self) -> bool:
+        """Return True if any sample is undercut or on a cusp."""
+        return bool(self.undercut_angles.size)
+
+    @property
+    def face_width(self) -> Optional[float]:
+        """Return the smallest face length face_max - face_min (m), None for rollers."""
+        if self.face_min is None or self.face_max is None:
+            return None
+        return self.face_max - self.face_min
+
+    @property
+    def ok(self) -> bool:
+        """Return True if there is no undercut and every given limit is met."""
+        return (not self.undercut and self.pressure_angle_ok is not False
+                and self.radius_ok is not False)
+
+
+def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float] = None,
+                   min_radius: Optional[float] = None,
+                   program: Optional[MotionProgram] = None) -> GeometryCheck:
+    """Check a geometry for undercut and cusps and against optional limits.
+
+    max_pressure_angle (rad) bounds |pressure angle|; min_radius (m) bounds the radius of
+    curvature of the convex parts of the surface (for a roller, a pitch-curve limit P is the
+    surface limit P - Rr). With program (the motion the geometry was sampled from, densely over
+    a whole revolution), every extreme is refined between the samples on the exact motion and
+    cusps are roots; without it, the samples' values are used. The verdict is returned as data,
+    never raised.
+    """
+    if not isinstance(geometry, CamGeometry):
+        raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
+    if program is not None and not isinstance(program, MotionProgram):
+        raise InvalidParameter('program', program, 'must be a MotionProgram or None')
+    angle_limit, radius_limit = _check_limits(max_pressure_angle, min_radius)
+    follower = geometry.follower
+    wanted = [(_pressure_angle_of, 'max'), (_pressure_angle_of, 'min'),
+              _worst_curvature(follower)]
+    if geometry.contact_offset is not None:
+        wanted += [(_contact_offset, 'min'), (_contact_offset, 'max')]
+    extremes = _Extremes(follower, geometry.clockwise, geometry.theta, geometry, program)
+    high, low, (worst, worst_at), *face = extremes.extremes(wanted)
+    peak, peak_at = max(high, (-low[0], low[1]))
+    if isinstance(follower, ROLLERS):
+        undercut_margin = 1.0 - follower.roller_radius * worst
+        smallest = 1.0 / worst - follower.roller_radius if worst > 0.0 else math.inf
+    else:
+        undercut_margin = smallest = worst
+    undercut = _undercut_measure(follower)
+    dip = worst_at if undercut_margin <= 0.0 else None
+    at = np.asarray(geometry.theta)[np.asarray(undercut(geometry)) <= 0.0]
+    if undercut_margin <= 0.0 and not at.size:
+        at = np.array([worst_at])
+    return GeometryCheck(
+        undercut_angles=_frozen(at),
+        cusp_angles=_frozen(extremes.zeros(undercut, dip)),
+        max_pressure_angle=peak,
+        max_pressure_angle_at=peak_at,
+        pressure_angle_limit=angle_limit,
+        pressure_angle_ok=None if angle_limit is None else angle_limit - peak >= 0.0,
+        min_radius=smallest,
+        min_radius_at=worst_at,
+        radius_limit=radius_limit,
+        radius_ok=None if radius_limit is None
+        else _radius_margin(follower, worst, radius_limit) >= 0.0,
+        face_min=face[0][0] if face else None,
+        face_max=face[1][0] if face else None,
+        pressure_angle_high=high,
+        pressure_angle_low=low,
+    )
