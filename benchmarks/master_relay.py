@@ -11,34 +11,24 @@ import sys
 from typing import Sequence
 
 import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
+from benchmarks.spin import spin_until_shutdown
 from cam_ros.ecam import COMMAND_QOS, MASTER_QOS
 
 
 def main(args: Sequence[str] | None = None) -> int:
     """Relay master positions to commands until Ctrl-C."""
     rclpy.init(args=list(sys.argv if args is None else args))
-    executor = SingleThreadedExecutor()
     node = Node('master_relay')
     publisher = node.create_publisher(Float64MultiArray, '~/commands', COMMAND_QOS)
     node.create_subscription(
         JointState, '~/master',
         lambda message: publisher.publish(Float64MultiArray(data=[message.position[0]])),
         MASTER_QOS)
-    try:
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return spin_until_shutdown(node)
 
 
 if __name__ == '__main__':

@@ -11,9 +11,10 @@ import sys
 from typing import Sequence
 
 import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from std_srvs.srv import SetBool
+
+from benchmarks.spin import spin_until_shutdown
 
 
 def answer(request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
@@ -27,17 +28,7 @@ def main(args: Sequence[str] | None = None) -> int:
     rclpy.init(args=list(sys.argv if args is None else args))
     node = Node('setbool_server')
     node.create_service(SetBool, '~/set_bool', answer)
-    executor = SingleThreadedExecutor()
-    executor.add_node(node)
-    try:
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return spin_until_shutdown(node)
 
 
 if __name__ == '__main__':
