@@ -4,7 +4,7 @@ Commands live in cam_ros.commands and are imported only when run, so `cam_ros re
 loads rclpy or matplotlib. Every command returns its exit code:
 
   0  ok
-  1  the design violates one of its limits (output is still written), or a ROS call failed
+  1  the design violates one of its limits (output is still written), or a ROS command failed
   2  invalid input: config, arguments or file; one line 'cam_ros <command>: <message>' on stderr
 """
 from __future__ import annotations
@@ -13,6 +13,7 @@ import argparse
 import importlib
 import math
 import os
+import re
 import sys
 import textwrap
 from importlib.metadata import PackageNotFoundError, version
@@ -25,8 +26,9 @@ from cam_ros.core.cam_table import INTERPOLATIONS
 
 EXIT_CODES = '''exit codes:
   0  ok
-  1  the design violates one of its limits (pressure angle, radius of curvature, undercut;
-     the output is still written), or a ROS call / echo failed
+  1  the design violates one of its limits (pressure angle, radius of curvature, undercut,
+     jump or contact stress with dynamics; the output is still written), or a call, echo,
+     record, reload or param command failed or was refused
   2  invalid input (config, arguments, file): one line "cam_ros <command>: <message>" on stderr
   130 interrupted by Ctrl-C (echo and replay stop cleanly and exit 0); 141 output pipe closed
 '''
@@ -45,7 +47,14 @@ class UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
-    """ArgumentParser that raises UsageError instead of printing usage and exiting."""
+    """ArgumentParser that raises UsageError instead of printing usage and exiting.
+
+    A negative number in exponent form (--tolerance -1e-6) is a value, not an option.
+    """
+
+    def __init__(self, *args: object, **kwargs: object):
+        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        self._negative_number_matcher = re.compile(r'^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$')
 
     def error(self, message: str) -> NoReturn:
         """Raise the error so that main() prints it as one line."""

@@ -29,7 +29,6 @@ from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.dynamics_report import dynamics_report
 from cam_ros.core.handover import Handover
 from cam_ros.core.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                  MasterTracker, OK, read_master, STALE, WAITING)
@@ -320,7 +319,7 @@ class MasterFollower:
 
 def jump_speed(design: CamDesign) -> float | None:
     """Return the design's jump speed (rad/s of cam), None without dynamics or jump."""
-    report = dynamics_report(design)
+    report = design.dynamics_check
     return None if report is None else report.jump_speed
 
 

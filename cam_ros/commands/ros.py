@@ -68,7 +68,7 @@ def missing(node: Node, kind: str, name: str) -> str:
     similar = [found for found in names if found.rpartition('/')[2] == base]
     similar += difflib.get_close_matches(name, names, n=SIMILAR_NAMES, cutoff=0.6)
     domain = node.context.get_domain_id()
-    shown = ', '.join(list(dict.fromkeys(similar))[:SIMILAR_NAMES]) or 'none'
+    shown = ', '.join(list(dict.fromkeys(similar))[:SIMILAR_NAMES]) or 'none discovered yet'
     return f' (ROS_DOMAIN_ID={domain}; similar {kind}s available: {shown})'
 
 

@@ -93,4 +93,5 @@ def test_a_missing_node_exits_1_naming_the_domain(argv, ros_domain, capsys):
     assert run.code == 1 and run.out == ''
     service = {'record': 'record', 'reload': 'reload', 'param': 'list_parameters'}[argv[0]]
     assert run.err == (f'cam_ros {argv[0]}: service /nobody/{service} is not available within '
-                       f'0.5 s (ROS_DOMAIN_ID={ros_domain}; similar services available: none)\n')
+                       f'0.5 s (ROS_DOMAIN_ID={ros_domain}; similar services available: '
+                       'none discovered yet)\n')

@@ -4,7 +4,7 @@ from __future__ import annotations
 import inspect
 
 import pytest
-from cli_support import assert_one_error_line, run_cli
+from cli_support import assert_one_error_line, DEFAULT_CONFIG, run_cli
 
 from cam_ros.cli import _handler, build_parser, main, one_line
 
@@ -74,3 +74,12 @@ def test_multi_line_messages_become_one_line():
 def test_invalid_config_error_names_the_command(tmp_path, capsys):
     missing = tmp_path / 'missing.yaml'
     assert_one_error_line(run_cli(capsys, 'sample', missing), 'sample', 'cannot be read')
+
+
+@pytest.mark.parametrize('value', ['-1e-6', '-2.5E+3', '-.5e1'])
+def test_a_negative_number_in_exponent_form_is_a_value_not_an_option(value, tmp_path, capsys):
+    target = tmp_path / 'table.csv'
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', target, '--cam-table',
+                  '--tolerance', value)
+    assert_one_error_line(run, 'export', f"--tolerance: '{value}'", '> 0')
+    assert not target.exists()

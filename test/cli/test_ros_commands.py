@@ -106,7 +106,8 @@ def test_call_without_a_service_exits_1_after_the_timeout(ros_domain, capsys):
                   '--timeout', SHORT_TIMEOUT_S)
     assert run.code == 1 and run.out == ''
     assert run.err == ('cam_ros call: service /nobody/evaluate is not available within 0.5 s '
-                       f'(ROS_DOMAIN_ID={ros_domain}; similar services available: none)\n')
+                       f'(ROS_DOMAIN_ID={ros_domain}; similar services available: '
+                       'none discovered yet)\n')
 
 
 def test_not_available_names_the_domain_and_similar_names(cam_node, ros_domain, capsys):
@@ -189,4 +190,5 @@ def test_echo_gives_up_after_the_timeout_when_nobody_publishes(ros_domain, capsy
     run = run_cli(capsys, 'echo', '/nobody/here', '--timeout', SHORT_TIMEOUT_S)
     assert run.code == 1 and run.out == ''
     assert run.err == ('cam_ros echo: no publisher of /nobody/here within 0.5 s '
-                       f'(ROS_DOMAIN_ID={ros_domain}; similar topics available: none)\n')
+                       f'(ROS_DOMAIN_ID={ros_domain}; similar topics available: '
+                       'none discovered yet)\n')
