@@ -115,7 +115,8 @@ class SccaLaw(MotionLaw):
             object.__setattr__(self, name, value)
         total = self.b + self.c + self.d
         if abs(total - 1.0) > FRACTION_SUM_TOLERANCE:
-            raise InvalidParameter('b + c + d', total, 'the fractions must add up to 1')
+            raise InvalidParameter('b + c + d', float(f'{total:.12g}'),  # no rounding noise
+                                   'the fractions must add up to 1')
 
     @cached_property
     def _pieces(self) -> tuple[AccelerationPiece, ...]:
