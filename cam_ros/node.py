@@ -38,9 +38,10 @@ from cam_ros.core.config import PARAMETERS, SPECS
 from cam_ros.ecam import MasterFollower
 from cam_ros.joints import joint_coordinates
 from cam_ros.middleware import use_shipped_profile
-from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
-                                     parameter_sources, ParameterSources, parse_command_line,
-                                     plain, ros_node_parameters, start_rclpy, USAGE)
+from cam_ros.node_parameters import (declared_value, descriptor, parameter_sources,
+                                     ParameterSources, parse_command_line, plain,
+                                     RECORDING_SWITCH, reload_parameters, ros_node_parameters,
+                                     start_rclpy, USAGE)
 from cam_ros.paths import default_config_path
 from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
                                params_file, Recorder, TopicSpec)
@@ -113,7 +114,7 @@ class CamNode(Node):
             self._state_timer.cancel()
         self._recorder: Recorder | None = None
         if self.design.config.recording_enabled:
-            self._set_recording(True)
+            self._set_recording(True, f'{RECORDING_SWITCH} true at start-up')
         self._publish_design()
         self._log_design()
         # Services last: once ~/evaluate is visible the node is fully built.
@@ -157,14 +158,16 @@ class CamNode(Node):
         if self._pending is None:
             return
         self.design, self._pending = self._pending, None
-        if self._ecam:
-            self._ecam.change(self.design)
-        self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
-        self._publish_design()
-        self._log_design()
+        if any(param.name != RECORDING_SWITCH for param in updates):  # not the switch alone
+            if self._ecam:
+                self._ecam.change(self.design)
+            self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
+            self._publish_design()
+            self._log_design()
         for param in updates:
-            if param.name == 'recording.enabled':
-                self._set_recording(param.value)
+            if param.name == RECORDING_SWITCH and param.value != self._recording:
+                self._set_recording(param.value, f'{RECORDING_SWITCH} set to '
+                                                 f'{str(param.value).lower()}')
 
     def _log_design(self) -> None:
         self.get_logger().info(self.design.summary())
@@ -195,39 +198,69 @@ class CamNode(Node):
         return response
 
     def _reload(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
-        """Re-read the start-up params files and -p overrides; keep serving if they are bad."""
+        """Re-read the start-up params files and -p overrides; set what changed, if they are good.
+
+        A running recording is left alone: the files' recording.enabled applies at start-up.
+        """
         try:
             values = self._sources.read()
             parse_parameters(values)  # names and types first: only cam parameters are set
         except CamError as err:
             response.success, response.message = False, one_line(str(err))
             return response
-        result = self.set_parameters_atomically(file_parameters(values))
+        changes = reload_parameters(values, self._current_values())
+        result = (self.set_parameters_atomically(changes) if changes
+                  else SetParametersResult(successful=True))
         response.success = result.successful
         files = ', '.join(map(str, self._sources.files))
         response.message = f'reloaded {files}' if result.successful else result.reason
         return response
 
     def _record(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
-        response.success, response.message = self._set_recording(request.data)
+        response.success, response.message = self._set_recording(request.data, 'asked on ~/record')
         return response
 
-    def _set_recording(self, enabled: bool) -> tuple[bool, str]:
-        """Start or stop recording this node's topics to a new MCAP file; say what happened."""
-        if not enabled:
-            if self._recorder is None:
-                return True, 'not recording'
-            recorder, self._recorder = self._recorder, None
-            recorder.close()
-            return True, f'stopped; {recorder.message_count} messages in {recorder.path}'
-        if self._recorder is not None and not self._recorder.failed:
+    @property
+    def _recording(self) -> bool:
+        """Return whether a recording runs (one stopped by a write error does not)."""
+        return self._recorder is not None and not self._recorder.failed
+
+    def _set_recording(self, enabled: bool, why: str) -> tuple[bool, str]:
+        """Start or stop recording, logging why; then make recording.enabled say the outcome.
+
+        The parameter and ~/record are one switch: `param get` tells whether the node records.
+        """
+        answer = self._start_recording(why) if enabled else self._stop_recording(why)
+        if self.get_parameter(RECORDING_SWITCH).value != self._recording:
+            # after ~/record or a failed start; _apply_update then finds nothing to switch
+            self.set_parameters([Parameter(RECORDING_SWITCH, Parameter.Type.BOOL,
+                                           self._recording)])
+        return answer
+
+    def _stop_recording(self, why: str) -> tuple[bool, str]:
+        """Close the recording (writing its summary); log why unless a write error ended it."""
+        recorder, self._recorder = self._recorder, None
+        if recorder is None:
+            return True, 'not recording'
+        failed = recorder.failed  # then the recorder has logged its own end
+        recorder.close()
+        stopped = f'{recorder.message_count} messages in {recorder.path}'
+        if not failed:
+            self.get_logger().info(f'recording stopped ({why}): {stopped}')
+        return True, f'stopped; {stopped}'
+
+    def _start_recording(self, why: str) -> tuple[bool, str]:
+        """Start recording this node's topics to a new MCAP file; say what happened."""
+        if self._recording:
             return True, f'already recording to {self._recorder.path}'
+        self._stop_recording(why)  # release one that a write error stopped
         config = self.design.config
         stamp = time.strftime('%Y%m%d-%H%M%S')
         path = Path(config.recording_directory) / f'{self.get_name()}_{stamp}.mcap'
         name = self.get_fully_qualified_name()
+        in_force = {**config.parameters, RECORDING_SWITCH: True}  # on while it records
         attachments = {PARAMETERS_ATTACHMENT: params_file(
-            config.parameters, f'Parameters of {name} in force when recording {path.name} began')}
+            in_force, f'Parameters of {name} in force when recording {path.name} began')}
         if self._params_file and self._params_file.exists():
             attachments[CONFIG_ATTACHMENT] = self._params_file.read_text()
         description = {'params_file': str(self._params_file or ''), NODE_KEY: name,
@@ -239,7 +272,7 @@ class CamNode(Node):
         except CamError as err:
             self.get_logger().error(f'recording not started: {err}')
             return False, str(err)
-        self.get_logger().info(f'recording to {path}')
+        self.get_logger().info(f'recording to {path} ({why})')
         return True, f'recording to {path}'
 
     def _recorded_topics(self) -> list[TopicSpec]:
@@ -251,7 +284,7 @@ class CamNode(Node):
 
     def destroy_node(self) -> None:
         """Close a running recording (writing its summary) before the node goes away."""
-        self._set_recording(False)
+        self._stop_recording('node shutting down')
         if self._ecam:
             self._ecam.stop()
         super().destroy_node()

@@ -41,6 +41,8 @@ ROS_TYPES = {
 VALUED_ROS_FLAGS = {'-r', '--remap', '-p', '--param', '--params-file', '-e', '--enclave',
                     '--log-level', '--log-config-file', '--log-file-name'}
 PARAMETER_FLAGS = {'-p', '--param', '--params-file'}
+#: The recording's one switch: ~/record sets it, setting it starts or stops the recording.
+RECORDING_SWITCH = 'recording.enabled'
 
 
 def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
@@ -76,11 +78,19 @@ def plain(value: Any) -> Any:
     return list(value) if isinstance(value, (list, tuple, array.array)) else value
 
 
-def file_parameters(values: Mapping[str, Any]) -> list[Parameter]:
-    """Return every cam parameter typed as declared: the values given, defaults for the rest."""
-    return [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]),
-                      values.get(spec.name, spec.default))
-            for spec in PARAMETERS if spec.name in values or spec.default is not REQUIRED]
+def reload_parameters(values: Mapping[str, Any], current: Mapping[str, Any]) -> list[Parameter]:
+    """Return the cam parameters a reload changes, typed as declared.
+
+    values are the sources' (defaults for the rest), current the node's (absent where unset).
+    Only real changes are returned: not a value equal to the current one, not an empty array for
+    one that is unset, and not RECORDING_SWITCH, which a params file sets at start-up only (a
+    reload leaves a running recording alone).
+    """
+    return [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]), value)
+            for spec, value in ((spec, values.get(spec.name, spec.default)) for spec in PARAMETERS
+                                if spec.name in values or spec.default is not REQUIRED)
+            if spec.name != RECORDING_SWITCH
+            and value != current.get(spec.name, [] if isinstance(value, list) else None)]
 
 
 def split_rule(rule: str) -> tuple[str, str, str]:

@@ -1,6 +1,8 @@
 """`cam_ros record`, `reload` and `param get|set|list` against a real cam_node."""
 from __future__ import annotations
 
+import time
+
 import pytest
 import yaml
 from cli_support import DEFAULT_CONFIG, load_parameters, run_cli
@@ -10,6 +12,7 @@ from cam_ros.recording import open_recording
 
 NODE_TIMEOUT_S = 10.0
 SHORT_TIMEOUT_S = 0.5
+RECORD_AFTER_RELOAD_S = 0.5
 
 
 @pytest.fixture
@@ -85,6 +88,70 @@ def test_record_on_off_and_reload(cam_node, capsys):
     assert run.out == f'reloaded {DEFAULT_CONFIG}\n'
     run = param(capsys, 'get', 'follower.base_radius')
     assert yaml.safe_load(run.out) == {'follower.base_radius': 4.0}
+
+
+def recording_enabled(capsys) -> bool:
+    """Return what the node says its recording.enabled parameter is."""
+    run = param(capsys, 'get', 'recording.enabled')
+    assert run.code == 0, run.err
+    return yaml.safe_load(run.out)['recording.enabled']
+
+
+def test_record_and_recording_enabled_are_one_switch_that_a_reload_leaves_alone(
+        start_cam_node, tmp_path, capsys):
+    folder, other = tmp_path / 'runs', tmp_path / 'other'
+    process, _ = start_cam_node(DEFAULT_CONFIG, '-p', f'recording.directory:={folder}')
+    assert recording_enabled(capsys) is False
+    assert run_cli(capsys, 'record', 'on', '--timeout', NODE_TIMEOUT_S).code == 0
+    [path] = folder.glob('*.mcap')
+    assert recording_enabled(capsys) is True
+
+    run = run_cli(capsys, 'reload', '--timeout', NODE_TIMEOUT_S)  # the file says false
+    assert run.code == 0 and run.out == f'reloaded {DEFAULT_CONFIG}\n', run
+    reloaded_ns = time.time_ns()
+    assert recording_enabled(capsys) is True
+    time.sleep(RECORD_AFTER_RELOAD_S)
+    run = run_cli(capsys, 'record', 'off', '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 0 and run.out.startswith('stopped; '), run
+    assert run.out.endswith(f' messages in {path}\n')
+    stopped_text = run.out.removeprefix('stopped; ').rstrip('\n')
+    assert recording_enabled(capsys) is False
+    recording = open_recording(path)
+    assert recording.complete
+    states = [m.message.header.stamp for m in recording.messages(['/cam/joint_states'])]
+    assert states[-1].sec * 10**9 + states[-1].nanosec > reloaded_ns  # it ran past the reload
+
+    # Setting the parameter starts and stops as well; ~/record then says the same.
+    run = param(capsys, 'set', 'recording.directory', str(other), 'recording.enabled', 'true')
+    assert run.code == 0, run.err
+    [second] = other.glob('*.mcap')
+    run = run_cli(capsys, 'record', 'on', '--timeout', NODE_TIMEOUT_S)
+    assert run.out == f'already recording to {second}\n'
+    assert param(capsys, 'set', 'recording.enabled', 'false').code == 0
+    assert run_cli(capsys, 'record', 'off', '--timeout', NODE_TIMEOUT_S).out == 'not recording\n'
+    assert open_recording(second).complete
+
+    log = process.log()  # every start and stop, with its cause
+    assert f'recording to {path} (asked on ~/record)' in log
+    assert f'recording stopped (asked on ~/record): {stopped_text}' in log
+    assert f'recording to {second} (recording.enabled set to true)' in log
+    assert 'recording stopped (recording.enabled set to false): ' in log
+    assert log.count('recording stopped') == 2 and log.count('recording to ') == 2
+
+
+def test_a_recording_that_cannot_start_leaves_recording_enabled_false(
+        start_cam_node, tmp_path, capsys):
+    blocker = tmp_path / 'a_file'
+    blocker.write_text('not a folder')
+    process, _ = start_cam_node(DEFAULT_CONFIG, '-p', 'recording.enabled:=true',
+                                '-p', f'recording.directory:={blocker}')
+    assert recording_enabled(capsys) is False  # the start-up recording failed
+    assert param(capsys, 'set', 'recording.enabled', 'true').code == 0
+    assert recording_enabled(capsys) is False
+    run = run_cli(capsys, 'record', 'on', '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 1 and f'cannot create recording {blocker}/cam_' in run.err, run
+    assert recording_enabled(capsys) is False
+    assert process.log().count(f'recording not started: cannot create recording {blocker}') == 3
 
 
 @pytest.mark.parametrize('argv', [['record', 'on'], ['reload'], ['param', 'list']])

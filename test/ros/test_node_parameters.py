@@ -7,10 +7,10 @@ import pytest
 from conftest import CONFIG_DIR
 from rcl_interfaces.msg import ParameterType
 
-from cam_ros.core import InvalidParameter
+from cam_ros.core import InvalidParameter, read_parameters_file
 from cam_ros.core.config import PARAMETERS
-from cam_ros.node_parameters import (declared_value, descriptor, file_parameters,
-                                     parse_command_line, ParameterSources)
+from cam_ros.node_parameters import (declared_value, descriptor, parse_command_line,
+                                     ParameterSources, reload_parameters)
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 FALLBACK = Path('/fallback.yaml')
@@ -71,7 +71,22 @@ def test_declared_values_and_descriptors_follow_the_specs():
     assert rate.dynamic_typing and rate.type == ParameterType.PARAMETER_DOUBLE
     assert (rate.floating_point_range[0].from_value, rate.floating_point_range[0].to_value) == (
         0.1, 1000.0)
-    reset = {param.name: param for param in file_parameters({'follower.offset': 0.0})}
-    assert reset['follower.offset'].value == 0.0
-    assert reset['motion.via_deg'].type_.value == ParameterType.PARAMETER_DOUBLE_ARRAY
-    assert 'follower.base_radius' not in reset  # required: only ever the file's value
+
+
+def test_a_reload_sets_only_real_changes_and_never_the_recording_switch():
+    given = read_parameters_file(DEFAULT)
+    current = {**given, 'recording.enabled': True, 'motion.via_deg': [10.0]}
+    current.update({spec.name: spec.default for spec in PARAMETERS
+                    if spec.name not in given and spec.default != []})
+    del current['follower.base_radius']  # set nowhere, required: only ever the file's value
+    assert 'motion.via_segment' not in current  # declared by type, never given a value
+    changes = {param.name: param for param in reload_parameters(
+        {**given, 'follower.offset': 0.0, 'follower.base_radius': 4.0}, current)}
+    assert sorted(changes) == ['follower.base_radius', 'follower.offset', 'motion.via_deg']
+    assert changes['follower.offset'].value == 0.0
+    assert changes['motion.via_deg'].value == []  # back to the default: a change
+    assert changes['motion.via_deg'].type_.value == ParameterType.PARAMETER_DOUBLE_ARRAY
+    assert reload_parameters(given, {**current, 'follower.base_radius': 4.0,
+                                     'motion.via_deg': []}) == []
+    assert 'follower.base_radius' not in {
+        param.name for param in reload_parameters({}, current)}  # required: never a default

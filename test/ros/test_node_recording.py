@@ -194,6 +194,34 @@ def test_recording_carries_the_parameters_in_force_and_their_changes(start_cam_n
     assert 'cam_parameters.yaml' in text and 'Description node:' in text
 
 
+def test_a_reload_publishes_only_the_parameters_it_changes(start_cam_node, tmp_path, capsys):
+    live = tmp_path / 'live.yaml'
+    live.write_text(DEFAULT.read_text())
+    folder = tmp_path / 'runs'
+    process, _ = start_cam_node(live, '-p', 'recording.enabled:=true',
+                                '-p', f'recording.directory:={folder}')
+    # Two real changes first: they show that the recording takes the node's parameter events.
+    cli(capsys, 'param', 'set', 'follower.offset', '0.0', '--timeout', CALL_TIMEOUT_S)
+    cli(capsys, 'param', 'set', 'follower.offset', '0.5', '--timeout', CALL_TIMEOUT_S)
+    assert cli(capsys, 'reload', '--timeout', CALL_TIMEOUT_S) == f'reloaded {live}\n'
+    live.write_text(DEFAULT.read_text().replace('roller_radius: 1.0', 'roller_radius: 1.25'))
+    assert cli(capsys, 'reload', '--timeout', CALL_TIMEOUT_S) == f'reloaded {live}\n'
+    time.sleep(0.3)
+    assert process.stop(signal.SIGINT) == 0, process.log()
+    path = only_file(folder)
+
+    events = [m.message for m in open_recording(path).messages(['/parameter_events'])
+              if m.message.node == '/cam']
+    assert [([p.name for p in event.new_parameters], [p.name for p in event.changed_parameters],
+             [p.name for p in event.deleted_parameters]) for event in events] == [
+        ([], ['follower.offset'], []), ([], ['follower.offset'], []),
+        ([], ['follower.roller_radius'], [])]
+    data = json.loads(cli(capsys, 'info', path, '--json'))
+    assert [(c['name'], c['kind'], c['old'], c['new']) for c in data['parameter_changes']] == [
+        ('follower.offset', 'changed', 0.5, 0.0), ('follower.offset', 'changed', 0.0, 0.5),
+        ('follower.roller_radius', 'changed', 1.0, 1.25)]
+
+
 def test_a_killed_node_s_recording_is_recovered_for_rosbags(start_cam_node, tmp_path):
     from rosbags.highlevel import AnyReader
 
