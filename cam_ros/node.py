@@ -9,7 +9,6 @@ from __future__ import annotations
 import array
 import math
 import sys
-import time
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -42,10 +41,8 @@ from cam_ros.node_parameters import (declared_value, descriptor, parameter_sourc
                                      ParameterSources, parse_command_line, plain,
                                      RECORDING_SWITCH, reload_parameters, ros_node_parameters,
                                      start_rclpy, USAGE)
+from cam_ros.node_recording import NodeRecording
 from cam_ros.paths import default_config_path
-from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
-                               params_file, Recorder, TopicSpec)
-from cam_ros.recording.parameters import NODE_KEY
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
@@ -91,7 +88,6 @@ class CamNode(Node):
         overrides = [*ros_node_parameters(values), *(kwargs.pop('parameter_overrides', ()) or ())]
         super().__init__('cam', allow_undeclared_parameters=True, parameter_overrides=overrides,
                          **kwargs)
-        self._params_file: Path | None = self._sources.files[-1]
         for spec in PARAMETERS:  # undeclared names reach _validate_update, which names them
             self.declare_parameter(spec.name, declared_value(spec, values), descriptor(spec))
         self.design: CamDesign = build_design(parse_parameters(self._current_values()))
@@ -106,15 +102,17 @@ class CamNode(Node):
         self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
         self._dynamics_pub = self.create_publisher(Float64MultiArray, '~/dynamics', LATCHED)
         self._ecam = MasterFollower.attach(self, self.design, self._joint_pub,
-                                           lambda: self._recorder)
+                                           lambda: self._recording.recorder)
         self._start_ns = self.get_clock().now().nanoseconds
         self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
                                               self._publish_state)
         if self._ecam:  # the master axis drives the state instead
             self._state_timer.cancel()
-        self._recorder: Recorder | None = None
-        if self.design.config.recording_enabled:
-            self._set_recording(True, f'{RECORDING_SWITCH} true at start-up')
+        self._recording = NodeRecording(
+            self, self._sources.files[-1], (self._profile_pub, self._pressure_pub,
+                                            self._markers_pub, self._joint_pub,
+                                            self._extras_pub, self._dynamics_pub), self._ecam)
+        self._recording.start_up(self.design)
         self._publish_design()
         self._log_design()
         # Services last: once ~/evaluate is visible the node is fully built.
@@ -164,10 +162,7 @@ class CamNode(Node):
             self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
             self._publish_design()
             self._log_design()
-        for param in updates:
-            if param.name == RECORDING_SWITCH and param.value != self._recording:
-                self._set_recording(param.value, f'{RECORDING_SWITCH} set to '
-                                                 f'{str(param.value).lower()}')
+        self._recording.follow(updates, self.design)
 
     def _log_design(self) -> None:
         self.get_logger().info(self.design.summary())
@@ -217,74 +212,13 @@ class CamNode(Node):
         return response
 
     def _record(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
-        response.success, response.message = self._set_recording(request.data, 'asked on ~/record')
+        response.success, response.message = self._recording.switch(
+            request.data, 'asked on ~/record', self.design)
         return response
-
-    @property
-    def _recording(self) -> bool:
-        """Return whether a recording runs (one stopped by a write error does not)."""
-        return self._recorder is not None and not self._recorder.failed
-
-    def _set_recording(self, enabled: bool, why: str) -> tuple[bool, str]:
-        """Start or stop recording, logging why; then make recording.enabled say the outcome.
-
-        The parameter and ~/record are one switch: `param get` tells whether the node records.
-        """
-        answer = self._start_recording(why) if enabled else self._stop_recording(why)
-        if self.get_parameter(RECORDING_SWITCH).value != self._recording:
-            # after ~/record or a failed start; _apply_update then finds nothing to switch
-            self.set_parameters([Parameter(RECORDING_SWITCH, Parameter.Type.BOOL,
-                                           self._recording)])
-        return answer
-
-    def _stop_recording(self, why: str) -> tuple[bool, str]:
-        """Close the recording (writing its summary); log why unless a write error ended it."""
-        recorder, self._recorder = self._recorder, None
-        if recorder is None:
-            return True, 'not recording'
-        failed = recorder.failed  # then the recorder has logged its own end
-        recorder.close()
-        stopped = f'{recorder.message_count} messages in {recorder.path}'
-        if not failed:
-            self.get_logger().info(f'recording stopped ({why}): {stopped}')
-        return True, f'stopped; {stopped}'
-
-    def _start_recording(self, why: str) -> tuple[bool, str]:
-        """Start recording this node's topics to a new MCAP file; say what happened."""
-        if self._recording:
-            return True, f'already recording to {self._recorder.path}'
-        self._stop_recording(why)  # release one that a write error stopped
-        config = self.design.config
-        stamp = time.strftime('%Y%m%d-%H%M%S')
-        path = Path(config.recording_directory) / f'{self.get_name()}_{stamp}.mcap'
-        name = self.get_fully_qualified_name()
-        in_force = {**config.parameters, RECORDING_SWITCH: True}  # on while it records
-        attachments = {PARAMETERS_ATTACHMENT: params_file(
-            in_force, f'Parameters of {name} in force when recording {path.name} began')}
-        if self._params_file and self._params_file.exists():
-            attachments[CONFIG_ATTACHMENT] = self._params_file.read_text()
-        description = {'params_file': str(self._params_file or ''), NODE_KEY: name,
-                       'design': self.design.summary()}
-        try:
-            self._recorder = Recorder(self, path, self._recorded_topics(),
-                                      compression=config.recording_compression,
-                                      attachments=attachments, description=description)
-        except CamError as err:
-            self.get_logger().error(f'recording not started: {err}')
-            return False, str(err)
-        self.get_logger().info(f'recording to {path} ({why})')
-        return True, f'recording to {path}'
-
-    def _recorded_topics(self) -> list[TopicSpec]:
-        publishers = (self._profile_pub, self._pressure_pub, self._markers_pub, self._joint_pub,
-                      self._extras_pub, self._dynamics_pub)
-        return [TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
-                for pub in publishers] + [PARAMETER_EVENTS] + (
-                    self._ecam.topics() if self._ecam else [])
 
     def destroy_node(self) -> None:
         """Close a running recording (writing its summary) before the node goes away."""
-        self._stop_recording('node shutting down')
+        self._recording.stop('node shutting down')
         if self._ecam:
             self._ecam.stop()
         super().destroy_node()

@@ -221,9 +221,28 @@ def parameter_sources(params: ParameterSources | Path | str | None,
 USAGE = '''\
 usage: cam_node [-h] [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [ROS_ARG]...]
 
-Serve one cam design to ROS 2: the ~/evaluate service, the latched ~/profile,
-~/pressure_angle and ~/markers, the live ~/joint_states and ~/state_extras, and the
-~/reload and ~/record services.
+Serve one cam design to ROS 2 (SI units; README.md, "ROS interface", has the details).
+
+services:
+  ~/evaluate          cam_ros_interfaces/EvaluateCam: motion, geometry, dynamics at angles
+  ~/reload            std_srvs/Trigger: re-read the params files and -p overrides
+  ~/record            std_srvs/SetBool: start/stop recording (= recording.enabled)
+
+topics (published):
+  ~/profile           trajectory_msgs/JointTrajectory, latched: one revolution
+  ~/pressure_angle    std_msgs/Float64MultiArray, latched: cam and pressure angle
+  ~/markers           visualization_msgs/MarkerArray, latched: the cam's outlines
+  ~/dynamics          std_msgs/Float64MultiArray, latched: contact force, camshaft
+                      torque, contact stress (empty without dynamics)
+  ~/joint_states      sensor_msgs/JointState: joints cam and follower at state_rate_hz
+  ~/state_extras      geometry_msgs/Vector3Stamped: acceleration, jerk, pressure angle
+
+electronic cam (master.source: topic): the master drives ~/joint_states (one per
+master message) instead of the clock, ~/state_extras stays silent, and
+  ~/master            sensor_msgs/JointState, subscribed (name: master.topic): the master
+  ~/commands          std_msgs/Float64MultiArray: the follower's position or velocity
+  ~/joint_trajectory  trajectory_msgs/JointTrajectory: with command.trajectory_horizon > 0
+  /diagnostics        diagnostic_msgs/DiagnosticArray, about 1 Hz: design, master, recording
 
 The parameters come from the params files, in order (config/default.yaml if none is
 given), then from the -p overrides. They are checked exactly as `cam_ros report` checks

@@ -6,6 +6,7 @@ design other than the one the file gives.
 """
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import time
@@ -16,11 +17,15 @@ import numpy as np
 import pytest
 from cam_ros_interfaces.srv import EvaluateCam
 from conftest import CONFIG_DIR
+import rclpy
+from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
 from std_srvs.srv import Trigger
 
 from cam_ros.cli import main as cli_main
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.node import CamNode
+from cam_ros.node_parameters import USAGE
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 DEFAULT_TEXT = DEFAULT.read_text()
@@ -135,6 +140,32 @@ def test_help_prints_usage_and_exits_0_and_other_arguments_are_refused(ros_domai
     assert '\nexit codes:\n' in result.stdout
     result = run([*NODE, '--bogus', '--ros-args', '--params-file', str(DEFAULT)], tmp_path)
     assert_one_line(result, 'unrecognized arguments: --bogus (see cam_node --help)')
+
+
+def endpoints(node) -> set[str]:
+    """Return the names of node's topics and services, its own as ~/name."""
+    names = {entity.topic_name for entity in (*node.publishers, *node.subscriptions)}
+    names |= {service.srv_name for service in node.services}
+    own = f'{node.get_fully_qualified_name()}/'
+    return {f'~/{name[len(own):]}' if name.startswith(own) else name for name in names}
+
+
+def test_help_lists_exactly_the_topics_and_services_of_both_modes(ros_context):
+    listed = set(re.findall(r'^  ([~/]\S+) ', USAGE, re.MULTILINE))
+    bare = rclpy.create_node('cam', context=ros_context)  # rclpy's own endpoints
+    served = set()
+    try:
+        for source in ('clock', 'topic'):
+            node = CamNode(DEFAULT, context=ros_context,
+                           parameter_overrides=[Parameter('master.source', value=source)])
+            try:
+                served |= endpoints(node) - endpoints(bare)
+            finally:
+                node.destroy_node()
+    finally:
+        bare.destroy_node()
+    assert {'~/dynamics', '~/master', '~/commands', '/diagnostics'} <= served
+    assert listed == served
 
 
 def design_with(**updates: object):
