@@ -165,9 +165,11 @@ class RosGraph:
         self._processes.append(process)
         return process
 
-    def start_cam_node(self, name: str, config: Path = DEFAULT_CONFIG) -> ServerProcess:
-        """Start cam_node (`python -m cam_ros.node`) on a params file."""
-        return self.start('cam_ros.node', name, ros_args=('--params-file', str(config)))
+    def start_cam_node(self, name: str, config: Path = DEFAULT_CONFIG,
+                       overrides: Sequence[str] = ()) -> ServerProcess:
+        """Start cam_node (`python -m cam_ros.node`) on a params file and NAME:=VALUE overrides."""
+        options = [arg for override in overrides for arg in ('-p', override)]
+        return self.start('cam_ros.node', name, ros_args=('--params-file', str(config), *options))
 
     def start_setbool_server(self, name: str) -> ServerProcess:
         """Start the trivial SetBool server (benchmarks/setbool_server.py)."""

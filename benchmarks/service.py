@@ -80,10 +80,12 @@ def first_call(server: Server) -> None:
     raise RuntimeError(f'{server.client.srv_name} never answered:\n{server.process.log()}')
 
 
-def start_server(graph: RosGraph, kind: str, trial: int) -> tuple[Server, float]:
+def start_server(graph: RosGraph, kind: str, trial: int,
+                 max_batch: int = ServiceSizes.big_batch) -> tuple[Server, float]:
     """Start cam_node or the SetBool server; return it and seconds until its service is seen.
 
-    kind 'cam_dynamics' is cam_node on the same design with a follower train added.
+    kind 'cam_dynamics' is cam_node on the same design with a follower train added. cam_node
+    takes output.max_batch = max_batch, so the big-batch rows can measure one large answer.
     """
     name = f'{kind}_{trial}' if trial >= 0 else f'{kind}_warmup'
     if kind.startswith('cam'):
@@ -91,7 +93,8 @@ def start_server(graph: RosGraph, kind: str, trial: int) -> tuple[Server, float]
         request: Any = EvaluateCam.Request(angles=array.array('d', [1.0]))
         config = DEFAULT_CONFIG if kind == 'cam' else write_dynamics_config(
             DEFAULT_CONFIG, graph.workdir / 'dynamics.yaml')
-        launch: Callable[[str], ServerProcess] = lambda node: graph.start_cam_node(node, config)
+        launch: Callable[[str], ServerProcess] = lambda node: graph.start_cam_node(
+            node, config, [f'output.max_batch:={max_batch}'])
     else:
         client = graph.client_node.create_client(SetBool, f'/{name}/set_bool')
         request = SetBool.Request(data=True)
