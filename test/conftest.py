@@ -14,7 +14,7 @@ import time
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Callable, Iterator
 
 import pytest
 
@@ -23,6 +23,28 @@ CONFIG_DIR = REPO / 'config'
 SERVICE_TIMEOUT_S = 20.0
 STOP_TIMEOUT_S = 10.0
 FIRST_ANSWER_TIMEOUT_S = 2.0
+
+
+@pytest.fixture
+def report(record_property: Callable[[str, object], None]) -> Callable[[str, object], None]:
+    """Return a function that records a measured figure (JUnit XML and the terminal summary)."""
+    return record_property
+
+
+def pytest_terminal_summary(terminalreporter: Any) -> None:
+    """List the figures tests measured with `report`, per test folder, whatever -q says."""
+    sections: dict[str, list[str]] = {}
+    for outcome in ('passed', 'failed'):
+        for entry in terminalreporter.stats.get(outcome, []):
+            if entry.when == 'call':
+                path, _, test = entry.nodeid.partition('::')
+                sections.setdefault(Path(path).parent.name, []).extend(
+                    f'{test}: {name} = {value}' for name, value in entry.user_properties)
+    for folder, lines in sections.items():
+        if lines:
+            terminalreporter.section(f'{folder} figures')
+            for line in lines:
+                terminalreporter.write_line(line)
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

@@ -14,11 +14,10 @@ import sys
 import threading
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Iterator
 
 import pytest
 from conftest import CONFIG_DIR, NodeProcess
-from reliability.conftest import report  # noqa: F401 (the figures fixture, shared)
 
 from benchmarks.netns import Host, Link, missing_tool
 
@@ -132,18 +131,6 @@ def heavy(pytestconfig: pytest.Config) -> None:
     """Skip unless --heavy: the load, loss, partition and multicast tests take minutes."""
     if not pytestconfig.getoption('--heavy'):
         pytest.skip('a heavy network test: runs with --heavy')
-
-
-def pytest_terminal_summary(terminalreporter: Any) -> None:
-    """List the figures the network tests measured."""
-    rows = [(entry.nodeid.rpartition('::')[2], name, value)
-            for entry in terminalreporter.stats.get('passed', [])
-            if entry.when == 'call' and 'network/' in entry.nodeid
-            for name, value in entry.user_properties]
-    if rows:
-        terminalreporter.section('network figures')
-        for test, name, value in rows:
-            terminalreporter.write_line(f'{test}: {name} = {value}')
 
 
 @pytest.fixture

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable
 
 import pytest
 
@@ -32,22 +31,3 @@ def effort(pytestconfig: pytest.Config) -> Effort:
                       stall_s=10.0, examples=1000)
     return Effort(heavy=False, load_s=5.0, clients=3, kills=1, vanishing_clients=2, stall_s=1.0,
                   examples=100)
-
-
-@pytest.fixture
-def report(record_property: Callable[[str, object], None]) -> Callable[[str, object], None]:
-    """Return a function that records a measured figure (JUnit XML and the terminal summary)."""
-    return record_property
-
-
-def pytest_terminal_summary(terminalreporter: Any) -> None:
-    """List the figures the reliability tests measured, whatever the capture or -q setting."""
-    rows = [(report.nodeid.rpartition('::')[2], name, value)
-            for outcome in ('passed', 'failed')
-            for report in terminalreporter.stats.get(outcome, [])
-            if report.when == 'call' and 'reliability/' in report.nodeid
-            for name, value in report.user_properties]
-    if rows:
-        terminalreporter.section('reliability figures')
-        for test, name, value in rows:
-            terminalreporter.write_line(f'{test}: {name} = {value}')
