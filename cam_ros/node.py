@@ -119,10 +119,12 @@ class CamNode(Node):
         self.create_service(Trigger, '~/reload', self._reload)
         self.create_service(SetBool, '~/record', self._record)
         self.create_service(EvaluateCam, '~/evaluate', self._evaluate)
-        name = self.get_fully_qualified_name()
-        self.get_logger().info(
-            f'serving {name}/evaluate; topics {name}/profile, pressure_angle, markers '
-            f'(latched), joint_states, state_extras ({self.design.config.state_rate_hz:g} Hz)')
+        topics = sorted(pub.topic_name for pub in self.publishers
+                        if pub.topic_name not in ('/rosout', '/parameter_events'))
+        pace = ('per master message' if self._ecam is not None
+                else f'at {self.design.config.state_rate_hz:g} Hz')
+        self.get_logger().info(f'serving {self.get_fully_qualified_name()}/evaluate; topics '
+                               f'{", ".join(topics)}; state {pace}')
 
     # Parameters ---------------------------------------------------------------------------
     def _current_values(self) -> dict[str, Any]:
