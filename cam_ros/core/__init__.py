@@ -6,8 +6,9 @@ from .config import CamConfig, PARAMETERS, load_config, parse_parameters, read_p
 from .design import CamDesign, CamState, build_design, check_angles
 from .dynamics import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError
-from .geometry import (CamGeometry, Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
-                       TranslatingRoller, cam_geometry)
+from .followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                        TranslatingRoller)
+from .geometry import CamGeometry, cam_geometry
 from .geometry_check import GeometryCheck, check_geometry
 from .laws import LAWS, LawValues, MotionLaw, make_law
 from .program import Discontinuity, MotionProgram, ProgramValues, Segment

@@ -17,8 +17,9 @@ import numpy.typing as npt
 from .config import LENGTH_UNITS, CamConfig, MotionConfig
 from .dynamics import DynamicsValues, FollowerDynamics
 from .errors import InvalidParameter, quote
-from .geometry import (CamGeometry, Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
-                       TranslatingRoller, cam_geometry, contact_measures)
+from .followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                        TranslatingRoller)
+from .geometry import CamGeometry, cam_geometry, contact_measures
 from .geometry_check import GeometryCheck, check_geometry
 from .laws import MotionLaw, make_law
 from .program import MotionProgram, Segment

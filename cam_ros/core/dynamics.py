@@ -49,7 +49,7 @@ import numpy.typing as npt
 
 from .contact import effective_modulus, half_width, peak_pressure
 from .errors import InvalidParameter
-from .geometry import Follower, OscillatingRoller, TranslatingFlat, TranslatingRoller
+from .followers import Follower, OscillatingRoller, TranslatingFlat, TranslatingRoller
 
 Array = npt.NDArray[np.float64]
 

@@ -16,7 +16,6 @@ import numpy.typing as npt
 from .design import CHECK_SAMPLES, TWO_PI, CamDesign
 from .dynamics import DynamicsValues
 from .extremes import refine_extremum, refine_roots
-from .geometry_check import motion_breaks
 
 Array = npt.NDArray[np.float64]
 
@@ -89,7 +88,7 @@ def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
         return None
     config = model.config
     theta = np.linspace(0.0, TWO_PI, CHECK_SAMPLES, endpoint=False)
-    breaks = motion_breaks(design.program)
+    breaks = design.program.breaks
 
     def values(angles: Array) -> DynamicsValues:
         return cast(DynamicsValues, design.evaluate(angles).dynamics)

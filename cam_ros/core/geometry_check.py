@@ -15,27 +15,19 @@ import numpy as np
 
 from .errors import InvalidParameter
 from .extremes import refine_extrema, refine_roots, TWO_PI
-from .geometry import _frozen, _real, CamGeometry, Follower, ROLLERS
+from .followers import _real, Follower, ROLLERS
+from .geometry import _frozen, CamGeometry
 from .program import MotionProgram
 
 Array = np.ndarray
 
-Measure = Callable[[Any], Array]  # of a CamGeometry or a _Profile: the same attribute names
-
-
-def motion_breaks(program: MotionProgram) -> Array:
-    """Return the cam angles (rad) where the motion or a derivative may jump.
-
-    Every segment joint and every breakpoint inside a piecewise law.
-    """
-    return np.array([segment.start + at * segment.span for segment in program.segments
-                     for at in (0.0, *segment.law.breakpoints)])
+Measure = Callable[[Any], Array]  # of a CamGeometry or a Profile: the same attribute names
 
 
 class _Extremes:
     """Extremes and zeros of a geometry's measures, refined on the exact motion when given.
 
-    sampled holds the measures at the angles theta (a CamGeometry, or the raw _Profile when the
+    sampled holds the measures at the angles theta (a CamGeometry, or the raw Profile when the
     cam-frame coordinates are not needed). With a program, every extreme is refined from its
     grid bracket on the exact geometry (see extremes.py); without one, the grid's values are
     taken as they are.
@@ -51,7 +43,7 @@ class _Extremes:
         order = np.argsort(theta, kind='stable')
         distinct = np.concatenate(([True], np.diff(theta[order]) > 0.0))
         self._order, self._theta = order[distinct], theta[order][distinct]
-        self._breaks = None if program is None else motion_breaks(program)
+        self._breaks = None if program is None else program.breaks
 
     def _function(self, measures: Sequence[Measure]) -> Callable[[Array], Array]:
         """Return the exact measures as a function of cam angles (one row per measure)."""

@@ -201,6 +201,15 @@ class MotionProgram:
         return self.segments[0].start
 
     @cached_property
+    def breaks(self) -> FloatArray:
+        """Cam angles (rad, read-only) where the motion or a derivative may jump.
+
+        Every segment joint and every breakpoint inside a piecewise law.
+        """
+        return _read_only([segment.start + at * segment.span for segment in self.segments
+                           for at in (0.0, *segment.law.breakpoints)])
+
+    @cached_property
     def _offsets(self) -> FloatArray:
         return np.array([segment.start - self.start for segment in self.segments])
 

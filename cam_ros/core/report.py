@@ -15,7 +15,7 @@ import numpy as np
 
 from .design import CHECK_SAMPLES, CamDesign
 from .dynamics_report import DynamicsReport
-from .geometry import TranslatingRoller
+from .followers import TranslatingRoller
 from .program import Discontinuity, SegmentSummary
 from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
 

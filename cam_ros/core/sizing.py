@@ -16,7 +16,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from .errors import InvalidParameter
-from .geometry import _check_follower, _check_motion, _real, Follower
+from .followers import _check_follower, _real, Follower
+from .geometry import _check_motion
 from .geometry_check import (
     _abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
     _worst_curvature, Measure,

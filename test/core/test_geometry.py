@@ -9,9 +9,10 @@ import math
 
 from cam_motions import rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.geometry import (
-    cam_geometry, OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
+from cam_ros.core.followers import (
+    OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
 )
+from cam_ros.core.geometry import cam_geometry
 from cam_ros.core.geometry_check import check_geometry
 import numpy as np
 import pytest
@@ -408,29 +409,7 @@ def test_seed_000_clockwise_coordinates_match_the_lecture():
     np.testing.assert_allclose(geometry.surface_y, x, atol=EXACT)
 
 
-# ---------------------------------------------------------------- validation and immutability
-
-@pytest.mark.parametrize('make, parameter', [
-    (lambda: TranslatingRoller(0.0, 0.01), 'base_radius'),
-    (lambda: TranslatingRoller(0.04, -0.01), 'roller_radius'),
-    (lambda: TranslatingRoller(0.04, 0.01, 0.05), 'offset'),
-    (lambda: TranslatingRoller(0.04, 0.01, float('nan')), 'offset'),
-    (lambda: TranslatingRoller('4 cm', 0.01), 'base_radius'),
-    (lambda: TranslatingFlat(-1.0), 'base_radius'),
-    (lambda: TranslatingFlat(True), 'base_radius'),
-    (lambda: OscillatingRoller(0.04, 0.01, 0.2, 0.07, True), 'base_radius'),
-    (lambda: OscillatingRoller(0.04, 0.01, 0.09, 0.0, True), 'arm_length'),
-    (lambda: OscillatingRoller(0.04, 0.01, 0.09, 0.07, 'yes'), 'arm_turns_with_cam'),
-    (lambda: OscillatingFlat(0.04, 0.09, 0.06, True), 'face_offset'),
-    (lambda: OscillatingFlat(0.04, 0.09, -0.05, True), 'face_offset'),
-    (lambda: OscillatingFlat(0.04, -0.09, 0.0, True), 'pivot_distance'),
-])
-def test_invalid_followers_name_the_parameter(make, parameter):
-    with pytest.raises(InvalidParameter) as error:
-        make()
-    assert error.value.parameter == parameter
-    assert str(error.value).startswith(parameter + ' = ')
-
+# ---------------------------------------------------------------- motion checks and immutability
 
 THETA = np.linspace(0.0, 2 * np.pi, 10)
 ZERO = np.zeros(10)

@@ -8,7 +8,8 @@ import math
 
 from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.geometry import cam_geometry, TranslatingFlat, TranslatingRoller
+from cam_ros.core.followers import TranslatingFlat, TranslatingRoller
+from cam_ros.core.geometry import cam_geometry
 from cam_ros.core.geometry_check import check_geometry
 from cam_ros.core.laws import make_law
 from cam_ros.core.program import MotionProgram, Segment

@@ -490,3 +490,13 @@ def test_program_is_an_immutable_value():
     with pytest.raises(AttributeError):
         cam.segments = ()  # type: ignore[misc]
     assert cam == MotionProgram(_segments())
+
+
+def test_breaks_are_the_joints_and_the_laws_breakpoints():
+    cam = program((Dwell(), 0, 90, 0.0, 0.0), (ConstantAcceleration(), 90, 210, 0.0, 0.02),
+                  (Dwell(), 210, 250, 0.02, 0.02), (Cycloidal(), 250, 360, 0.02, 0.0))
+    assert cam.breaks == approx(np.radians([0, 90, 150, 210, 250]))  # 150: the flip of y''
+    jumps = {round(math.degrees(item.angle), 9) for item in cam.continuity_report()}
+    assert jumps and jumps <= set(np.round(np.degrees(cam.breaks), 9))
+    with pytest.raises(ValueError):
+        cam.breaks[0] = 1.0

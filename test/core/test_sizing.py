@@ -11,9 +11,10 @@ from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.laws import make_law
 from cam_ros.core.program import MotionProgram, Segment
-from cam_ros.core.geometry import (
-    cam_geometry, OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
+from cam_ros.core.followers import (
+    OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
 )
+from cam_ros.core.geometry import cam_geometry
 from cam_ros.core.geometry_check import check_geometry
 from cam_ros.core.sizing import (
     BIG_CAM_SIZE_INDEX, DENSE_SAMPLES, estimate_base_radius, SIZING_TOLERANCE, size_base_radius,
