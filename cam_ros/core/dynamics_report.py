@@ -103,28 +103,36 @@ def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
         return refine_extremum(lambda angles: getattr(values(angles), name), theta, grid, kind,
                                breaks=breaks)
 
-    def stress(angles: Array) -> Array:  # NaN (undercut, no Hertz contact) ranks highest
-        return np.nan_to_num(values(angles).contact_stress, nan=math.inf)
+    def ranked(stress: Array) -> Array:  # NaN (undercut, no Hertz contact) ranks highest
+        return np.nan_to_num(stress, nan=math.inf)
 
-    grid = values(theta)
+    def stress(angles: Array) -> Array:
+        return ranked(values(angles).contact_stress)
+
+    dense = design.evaluate(theta)  # the one dense pass; refinement evaluates only brackets
+    grid = cast(DynamicsValues, dense.dynamics)
+    motion = (dense.position, dense.ds, dense.d2s)  # position is s (at_speed keeps it)
     force_min, force_min_at = extreme('contact_force', 'min', grid.contact_force)
     force_max, force_max_at = extreme('contact_force', 'max', grid.contact_force)
     torque_high = extreme('camshaft_torque', 'max', grid.camshaft_torque)
     torque_low = extreme('camshaft_torque', 'min', grid.camshaft_torque)
     torque, torque_at = max(torque_high, (-torque_low[0], torque_low[1]))
-    stress_max, stress_at = refine_extremum(stress, theta, stress(theta), 'max', breaks=breaks)
-    speeds = per_motion(model.jump_speeds)
+    stress_max, stress_at = refine_extremum(stress, theta, ranked(grid.contact_stress), 'max',
+                                            breaks=breaks)
 
-    def rates(angles: Array) -> Array:  # 1 / jump speed: finite where the speed is inf
+    def inverse(speeds: Array) -> Array:  # 1 / jump speed: finite where the speed is inf
         with np.errstate(divide='ignore'):
-            return 1.0 / speeds(angles)
+            return 1.0 / speeds
 
+    speeds = per_motion(model.jump_speeds)
     with np.errstate(invalid='ignore'):  # inf - inf where contact is lost at rest
-        rate, _ = refine_extremum(rates, theta, rates(theta), 'max', breaks=breaks)
-    shortfall = per_motion(model.preload_shortfall)
-    needed, _ = refine_extremum(shortfall, theta, shortfall(theta), 'max', breaks=breaks)
+        rate, _ = refine_extremum(lambda angles: inverse(speeds(angles)), theta,
+                                  inverse(model.jump_speeds(*motion)), 'max', breaks=breaks)
+    needed, _ = refine_extremum(per_motion(model.preload_shortfall), theta,
+                                model.preload_shortfall(*motion), 'max', breaks=breaks)
     at_peak = design.evaluate(np.array([stress_at]))
-    width = model.half_width(values(at_peak.angle).contact_force, at_peak.radius_of_curvature)
+    width = model.half_width(cast(DynamicsValues, at_peak.dynamics).contact_force,
+                             at_peak.radius_of_curvature)
     limit = config.contact_stress_limit
     return DynamicsReport(
         contact_force_min=force_min, contact_force_min_at=force_min_at,

@@ -141,13 +141,13 @@ def _boundary(margins: Margins, bad: float, good: float, tol: float) -> tuple[fl
     return found, min(beyond, key=beyond.__getitem__)
 
 
-def _lowest_feasible(margins: Margins, candidates: np.ndarray, start: int) -> Optional[int]:
-    """Return the first candidate index from start whose exact margins all hold.
+def _lowest_feasible(margins: Margins, candidates: np.ndarray) -> Optional[int]:
+    """Return the first candidate index whose exact margins all hold.
 
-    Sample margins are never above exact ones, so candidates failing on the samples are skipped
-    with the cheap test.
+    Sampled margins are never below exact ones, so candidates failing on the samples are
+    skipped with the cheap test.
     """
-    for index in range(start, candidates.size):
+    for index in range(candidates.size):
         radius = float(candidates[index])
         if all(min(margins(radius, exact).values()) >= 0.0 for exact in (False, True)):
             return index
@@ -186,7 +186,7 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
                         program if exact else None)
 
     candidates = _candidates(follower, motion[1])
-    index = _lowest_feasible(margins, candidates, 0)
+    index = _lowest_feasible(margins, candidates)
     if index is None:
         return BaseRadiusSizing(None, None, 'infeasible', tol)
     if index == 0:
