@@ -25,7 +25,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 from benchmarks.report import Figure, Target
-from benchmarks.ros import DEFAULT_CONFIG, RosGraph, ServerProcess
+from benchmarks.ros import RosGraph, ServerProcess
 from benchmarks.timing import percentile_ms
 from cam_ros.ecam import MASTER_QOS, stamp_ns
 
@@ -136,9 +136,7 @@ def run(sides: list[Side], first: int, count: int, rate_hz: float) -> None:
 
 def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
     """Measure the latency of cam_node's commands and the relay's; return the two figures."""
-    cam = graph.start('cam_ros.node', 'ecam', ros_args=(
-        '--params-file', str(DEFAULT_CONFIG), '-p', 'master.source:=topic',
-        '-p', 'master.timeout:=30.0'))
+    cam = graph.start_cam_node('ecam', overrides=('master.source:=topic', 'master.timeout:=30.0'))
     relay = graph.start('benchmarks.master_relay', 'relay')
     sides = [Side(graph, cam, 'ecam'), Side(graph, relay, 'relay')]
     k = connect(sides)

@@ -39,7 +39,9 @@ from rclpy.qos import QoSProfile
 from rclpy.utilities import remove_ros_args
 from sensor_msgs.msg import JointState
 
-from cam_ros.node import CamNode, params_file_from, STATE_QOS
+from cam_ros.node import CamNode, STATE_QOS
+from cam_ros.node_parameters import parse_command_line
+from cam_ros.paths import default_config_path
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.intake import RawIntake, Taken
 from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
@@ -182,7 +184,7 @@ def main(args: Sequence[str] | None = None) -> int:
     argv = list(sys.argv if args is None else args)
     command, *rest = remove_ros_args(argv)[1:]
     rclpy.init(args=argv)
-    node = CamNode(params_file_from(argv))
+    node = CamNode(parse_command_line(argv, default_config_path()).sources)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     thread = threading.Thread(target=executor.spin, daemon=True)

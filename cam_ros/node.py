@@ -298,14 +298,6 @@ class CamNode(Node):
         self._extras_pub.publish(extras)
 
 
-def params_file_from(args: Sequence[str]) -> Path | None:
-    """Return the --params-file given in the ROS arguments, if any."""
-    for flag, value in zip(args, args[1:]):
-        if flag == '--params-file':
-            return Path(value)
-    return None
-
-
 def _invalid(message: str) -> int:
     """Print one line 'cam_node: message' on stderr and return the exit code of bad input."""
     print(f'cam_node: {one_line(message)}', file=sys.stderr)

@@ -2,6 +2,7 @@
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+import math
 import os
 from pathlib import Path
 import tempfile
@@ -68,7 +69,7 @@ def _copy(file: BinaryIO, out: BinaryIO, name: str) -> tuple[int, int]:
     channels: dict[int, int] = {}
     topics: dict[int, dict[str, Any]] = {}
     counts: dict[int, int] = {}
-    times: list[int] = []
+    start, end = math.inf, -math.inf  # log times of the first and last surviving message
     description: Mapping[str, str] = {}
     started = False
     for record in surviving_records(file):
@@ -91,7 +92,7 @@ def _copy(file: BinaryIO, out: BinaryIO, name: str) -> tuple[int, int]:
                                data=record.data, publish_time=record.publish_time,
                                sequence=record.sequence)
             counts[record.channel_id] += 1
-            times.append(record.log_time)
+            start, end = min(start, record.log_time), max(end, record.log_time)
         elif isinstance(record, Attachment):
             writer.add_attachment(record.create_time, record.log_time, record.name,
                                   record.media_type, record.data)
@@ -101,10 +102,11 @@ def _copy(file: BinaryIO, out: BinaryIO, name: str) -> tuple[int, int]:
                 description = record.metadata
     if not started:
         raise RecordingError(f'{name}: no MCAP header record')
-    start = min(times, default=0)
+    if start > end:  # no message survived
+        start = end = 0
     writer.add_metadata('rosbag2', {'serialized_metadata': bag_metadata(
-        name, list(topics.values()), list(counts.values()), start,
-        max(times, default=0) - start, description)})
+        name, list(topics.values()), list(counts.values()), int(start), int(end - start),
+        description)})
     writer.finish()
     return sum(counts.values()), len(topics)
 
