@@ -13,10 +13,8 @@ counted (the issue wants none).
 """
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from rclpy.qos import QoSProfile
@@ -26,7 +24,7 @@ from std_msgs.msg import Float64MultiArray
 
 from benchmarks.report import Figure, Target
 from benchmarks.ros import RosGraph, ServerProcess
-from benchmarks.timing import percentile_ms
+from benchmarks.timing import cpu_seconds, percentile_ms
 from cam_ros.ecam import MASTER_QOS, stamp_ns
 
 P50_TARGET, P99_TARGET = Target('<=', 1.3), Target('<=', 1.5)
@@ -95,12 +93,6 @@ class Side:
                 for number, data in self.joints.items() if number in self.commands}
 
 
-def cpu_seconds(process: ServerProcess) -> float:
-    """Return the CPU time (user + system) a process has used so far, in s."""
-    fields = Path(f'/proc/{process.process.pid}/stat').read_text().rsplit(')', 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
-
-
 def master(k: int) -> JointState:
     """Return the k-th master message (stamp k ms, 600 rpm)."""
     message = JointState(name=['cam'], position=[k * STEP_RAD])
@@ -144,9 +136,9 @@ def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
     run(sides, k, warmup, sizes.rate_hz)
     count = round(sizes.seconds * sizes.rate_hz)
     first = k + warmup
-    cpu = [cpu_seconds(side.process) for side in sides]
+    cpu = [cpu_seconds(side.process.process.pid) for side in sides]
     run(sides, first, count, sizes.rate_hz)
-    cpu = [(cpu_seconds(side.process) - before) / count * 1e6
+    cpu = [(cpu_seconds(side.process.process.pid) - before) / count * 1e6
            for side, before in zip(sides, cpu)]
     deadline = time.monotonic() + DRAIN_S
     while time.monotonic() < deadline and any(

@@ -26,11 +26,10 @@ from pathlib import Path
 from benchmarks.netns import Link
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO
-from benchmarks.timing import percentile_ms
+from benchmarks.timing import cpu_seconds, percentile_ms
 from cam_ros.paths import fastdds_profile_path
 
 READY_TIMEOUT_S = 90.0
-TICKS_PER_S = os.sysconf('SC_CLK_TCK')
 DEFAULTS_XML = ('<?xml version="1.0" encoding="UTF-8"?>\n'
                 '<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">'
                 '<profiles><participant profile_name="fast_dds_defaults"/></profiles></dds>\n')
@@ -55,11 +54,7 @@ class Copy:
 
     def cpu_s(self) -> float:
         """Return the CPU time (user + system) node and client used so far."""
-        total = 0
-        for process in (self.node, self.client):
-            fields = Path(f'/proc/{process.pid}/stat').read_text().rpartition(')')[2].split()
-            total += int(fields[11]) + int(fields[12])  # utime, stime (fields 14, 15)
-        return total / TICKS_PER_S
+        return cpu_seconds(self.node.pid) + cpu_seconds(self.client.pid)
 
     def link_bytes(self) -> int:
         """Return the bytes sent over the link (both ways) so far."""

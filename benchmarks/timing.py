@@ -1,8 +1,10 @@
-"""Timing helpers: warm-up, calibrated loops, interleaved repeats, medians and percentiles."""
+"""Timing helpers: warm-up, calibrated loops, interleaved repeats, medians, percentiles, CPU."""
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -51,3 +53,9 @@ def interleaved_medians(functions: Mapping[str, Callable[[], object]],
 def percentile_ms(latencies_ns: Sequence[int], percent: float) -> float:
     """Return a percentile of latencies given in ns, in ms."""
     return float(np.percentile(np.asarray(latencies_ns, dtype=float), percent)) * 1e-6
+
+
+def cpu_seconds(pid: int) -> float:
+    """Return the CPU time (user + system) process pid has used so far, in s (/proc/PID/stat)."""
+    fields = Path(f'/proc/{pid}/stat').read_text().rpartition(')')[2].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')  # utime, stime
