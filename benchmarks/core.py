@@ -18,8 +18,8 @@ import numpy as np
 from benchmarks.report import Figure, Target
 from benchmarks.timing import interleaved_medians
 from cam_ros.core import CamDesign
-from cam_ros.core.design import CHECK_SAMPLES
-from cam_ros.core.program import MotionProgram
+from cam_ros.core.extremes import CHECK_SAMPLES
+from cam_ros.core.motion.program import MotionProgram
 from cam_ros.core.report import design_report
 
 TWO_PI = 2.0 * math.pi

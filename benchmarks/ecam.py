@@ -25,7 +25,7 @@ from std_msgs.msg import Float64MultiArray
 from benchmarks.report import Figure, Target
 from benchmarks.ros import RosGraph, ServerProcess
 from benchmarks.timing import cpu_seconds, percentile_ms
-from cam_ros.ecam import MASTER_QOS, stamp_ns
+from cam_ros.node.master_follower import MASTER_QOS, stamp_ns
 
 P50_TARGET, P99_TARGET = Target('<=', 1.3), Target('<=', 1.5)
 #: The benchmark's own command readers keep everything: a late reader must not lose commands.

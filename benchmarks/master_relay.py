@@ -16,7 +16,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 from benchmarks.spin import spin_until_shutdown
-from cam_ros.ecam import COMMAND_QOS, MASTER_QOS
+from cam_ros.node.master_follower import COMMAND_QOS, MASTER_QOS
 
 
 def main(args: Sequence[str] | None = None) -> int:

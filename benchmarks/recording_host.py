@@ -39,8 +39,8 @@ from rclpy.qos import QoSProfile
 from rclpy.utilities import remove_ros_args
 from sensor_msgs.msg import JointState
 
-from cam_ros.node import CamNode, STATE_QOS
-from cam_ros.node_parameters import parse_command_line
+from cam_ros.node.node import CamNode, STATE_QOS
+from cam_ros.node.parameters import parse_command_line
 from cam_ros.paths import default_config_path
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.intake import RawIntake, Taken

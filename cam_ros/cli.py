@@ -19,10 +19,11 @@ import textwrap
 from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, NoReturn, Sequence
 
-from cam_ros.cam_table_formats import FORMATS as TABLE_FORMATS
-from cam_ros.commands.common import EXIT_INVALID
+from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
+from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import CamError
-from cam_ros.core.cam_table import INTERPOLATIONS
+from cam_ros.core.errors import one_line
+from cam_ros.core.ecam.cam_table import INTERPOLATIONS
 
 EXIT_CODES = '''exit codes:
   0  ok
@@ -280,11 +281,6 @@ def build_parser() -> argparse.ArgumentParser:
     _node_commands(sub)
     _recording_commands(sub)
     return parser
-
-
-def one_line(message: str) -> str:
-    """Join a multi-line message (e.g. a YAML parser's, with caret lines) into one line."""
-    return ' '.join(line.strip() for line in message.splitlines() if line.strip(' ^'))
 
 
 def _handler(target: str) -> Callable[..., int]:

@@ -33,7 +33,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from cam_ros.core.config import SPECS
+from cam_ros.core.config.schema import SPECS
 
 #: Replies kept by the client's reader until taken; see the module docstring and the README.
 REPLY_DEPTH = 1000

@@ -24,5 +24,5 @@ def default_config_path() -> Path:
 
 
 def fastdds_profile_path() -> Path:
-    """Return the shipped Fast DDS profile, config/fastdds.xml (see cam_ros.middleware)."""
+    """Return the shipped Fast DDS profile, config/fastdds.xml (see cam_ros.node.middleware)."""
     return config_dir() / 'fastdds.xml'

@@ -1,4 +1,4 @@
-"""What the commands share: exit codes, loading a design, verdict lines, JSON, tables, progress."""
+"""What the commands share: loading a design, verdict lines, JSON, tables, progress."""
 from __future__ import annotations
 
 import json
@@ -11,10 +11,8 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter, build_design, load_config
+from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 
-EXIT_OK = 0
-EXIT_FAILED = 1  # the design violates a limit, or a ROS call failed
-EXIT_INVALID = 2  # invalid config, arguments or input file
 #: The dynamics arrays `sample` and `call` add for a design with dynamics: (name, field, unit).
 DYNAMICS_FIELDS = (
     ('contact_force', 'contact_force', 'N'),

@@ -10,7 +10,8 @@ import json
 import time
 from typing import Any, Callable, Sequence
 
-from cam_ros.commands.common import EXIT_FAILED, EXIT_OK, say
+from cam_ros.commands.common import say
+from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.commands.ros import DEFAULT_TIMEOUT_S, request_once, ros_node
 from cam_ros.core import InvalidParameter
 

@@ -10,12 +10,13 @@ from typing import Any
 import numpy as np
 
 from cam_ros.commands.common import (degrees, dump_json, DYNAMICS_FIELDS, end_progress,
-                                     EXIT_FAILED, EXIT_OK, format_table, load_design, number,
-                                     output_path, progress, verdict, writing)
+                                     format_table, load_design, number, output_path, progress,
+                                     verdict, writing)
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.design import cam_degrees
-from cam_ros.core.dynamics_report import DynamicsReport
+from cam_ros.core.dynamics.report import DynamicsReport
 from cam_ros.core.report import DesignReport, design_report, position_unit
+from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 
 #: Points of `export --cam-table` without --points or --tolerance: one per degree.
 DEFAULT_TABLE_POINTS = 360
@@ -304,7 +305,7 @@ def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
 
 def plot(config: str, output: str, angle_deg: float = 0.0) -> int:
     """Draw S-V-A-J diagrams and the cam at angle_deg into a .png or .svg file."""
-    from cam_ros.plot import FORMATS, plot_design
+    from cam_ros.output.plot import FORMATS, plot_design
 
     target = output_path('-o', output, FORMATS)
     if not math.isfinite(angle_deg):
@@ -321,7 +322,7 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
            table_format: str | None = None, interpolation: str | None = None,
            end_point: bool | None = None, derivatives: bool = False) -> int:
     """Write the cam surface (mm) for manufacturing, or with cam_table a cam table for a PLC."""
-    from cam_ros.export import EXPORT_SAMPLES, WRITERS, export_surface
+    from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
 
     if cam_table:
         if samples is not None:
@@ -347,8 +348,8 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: fl
                      table_format: str, interpolation: str, end_point: bool | None,
                      derivatives: bool) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
-    from cam_ros.cam_table_formats import cam_table_text, check_options, slave_unit
-    from cam_ros.core.cam_table import equidistant_table, tolerance_table
+    from cam_ros.output.cam_table_formats import cam_table_text, check_options, slave_unit
+    from cam_ros.core.ecam.cam_table import equidistant_table, tolerance_table
 
     target = Path(output)
     with_derivatives = check_options(table_format, interpolation, derivatives)

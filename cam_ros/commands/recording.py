@@ -6,7 +6,8 @@ import threading
 from pathlib import Path
 from typing import Sequence
 
-from cam_ros.commands.common import dump_json, end_progress, EXIT_OK, progress, writing
+from cam_ros.commands.common import dump_json, end_progress, progress, writing
+from cam_ros.exit_codes import EXIT_OK
 from cam_ros.commands.ros import ros_node
 
 #: Seconds replay waits by default for every topic to have a subscriber (fresh ones need time

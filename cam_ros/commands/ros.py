@@ -22,11 +22,11 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from cam_ros.client import CamClient, CamClientError
-from cam_ros.commands.common import (dump_json, DYNAMICS_FIELDS, EXIT_FAILED, EXIT_OK,
-                                     format_table, number, say)
+from cam_ros.commands.common import dump_json, DYNAMICS_FIELDS, format_table, number, say
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
-from cam_ros.middleware import use_shipped_profile
+from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
+from cam_ros.node.middleware import use_shipped_profile
 
 DEFAULT_SERVICE = '/cam/evaluate'
 DEFAULT_TIMEOUT_S = 5.0

@@ -1,18 +1,22 @@
-"""Pure NumPy/SciPy kinematics core of cam_ros: laws, programs, geometry, config, designs.
+"""Pure NumPy/SciPy core of cam_ros: motion, geometry, dynamics, e-cam maths, config, designs.
 
-Nothing here imports ROS; the node and the CLI are thin shells around these names.
+Nothing here imports ROS; the node and the CLI are thin shells around these names. Subpackages by
+concern: motion (laws, programs), geometry (followers, profile, checks, sizing), dynamics (forces,
+contact), ecam (master tracking, handover, cam tables), config (schema, parameters files).
 """
-from .config import CamConfig, PARAMETERS, load_config, parse_parameters, read_parameters_file
+from .config.schema import (CamConfig, PARAMETERS, load_config, parse_parameters,
+                            read_parameters_file)
 from .design import CamDesign, CamState, build_design, check_angles
-from .dynamics import DynamicsConfig, DynamicsValues, FollowerDynamics
+from .dynamics.follower import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError
-from .followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
-                        TranslatingRoller)
-from .geometry import CamGeometry, cam_geometry
-from .geometry_check import GeometryCheck, check_geometry
-from .laws import LAWS, LawValues, MotionLaw, make_law
-from .program import Discontinuity, MotionProgram, ProgramValues, Segment
-from .sizing import BaseRadiusEstimate, BaseRadiusSizing, estimate_base_radius, size_base_radius
+from .geometry.cam_geometry import CamGeometry, cam_geometry
+from .geometry.check import GeometryCheck, check_geometry
+from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                                 TranslatingRoller)
+from .geometry.sizing import (BaseRadiusEstimate, BaseRadiusSizing, estimate_base_radius,
+                              size_base_radius)
+from .motion.laws import LAWS, LawValues, MotionLaw, make_law
+from .motion.program import Discontinuity, MotionProgram, ProgramValues, Segment
 
 __all__ = [
     'BaseRadiusEstimate', 'BaseRadiusSizing', 'CamConfig', 'CamDesign', 'CamError',

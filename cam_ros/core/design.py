@@ -9,27 +9,24 @@ import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Callable, Mapping, cast
+from typing import Any, Callable, Mapping, cast
 
 import numpy as np
 import numpy.typing as npt
 
-from .config import LENGTH_UNITS, CamConfig, MotionConfig
-from .dynamics import DynamicsValues, FollowerDynamics
+from .config.schema import LENGTH_UNITS, CamConfig, MotionConfig
+from .dynamics.follower import DynamicsValues, FollowerDynamics
+from .dynamics.report import DynamicsReport, dynamics_report
 from .errors import InvalidParameter, quote
-from .followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
-                        TranslatingRoller)
-from .geometry import CamGeometry, cam_geometry, contact_measures
-from .geometry_check import GeometryCheck, check_geometry
-from .laws import MotionLaw, make_law
-from .program import MotionProgram, Segment
-
-if TYPE_CHECKING:
-    from .dynamics_report import DynamicsReport
+from .extremes import CHECK_SAMPLES
+from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                                 TranslatingRoller)
+from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
+from .geometry.check import GeometryCheck, check_geometry
+from .motion.laws import MotionLaw, make_law
+from .motion.program import MotionProgram, Segment
 
 TWO_PI = 2.0 * math.pi
-#: Samples per revolution for the design checks (pressure angle, curvature, undercut).
-CHECK_SAMPLES = 7200
 #: Boundary conditions of the 3-4-5 law (u, derivative order, value) that a polynomial segment
 #: with via points keeps: rest to rest with zero acceleration at both ends.
 REST_TO_REST = ((0.0, 0, 0.0), (0.0, 1, 0.0), (0.0, 2, 0.0),
@@ -118,8 +115,9 @@ class CamDesign:
     @cached_property
     def dynamics_check(self) -> DynamicsReport | None:
         """Return the refined dynamics figures at the cam speed, None without dynamics."""
-        from .dynamics_report import dynamics_report  # that module builds on this one
-        return dynamics_report(self)
+        if self.dynamics is None:
+            return None
+        return dynamics_report(self.dynamics, self.program, self.evaluate)
 
     @property
     def ok(self) -> bool:

@@ -36,6 +36,11 @@ def quote(value: object) -> str:
     return f'{text}...{size}'
 
 
+def one_line(message: str) -> str:
+    """Join a multi-line message (e.g. a YAML parser's, with caret lines) into one line."""
+    return ' '.join(line.strip() for line in message.splitlines() if line.strip(' ^'))
+
+
 class CamError(Exception):
     """Root of every error cam_ros raises on purpose."""
 

@@ -37,6 +37,9 @@ Array = npt.NDArray[np.float64]
 Func = Callable[[Array], npt.ArrayLike]
 
 TWO_PI = 2.0 * math.pi
+#: Samples per revolution of the design checks (pressure angle, curvature, undercut, dynamics)
+#: from which extremes are refined.
+CHECK_SAMPLES = 7200
 #: Bracket width (rad) at which golden section hands over to a final parabolic step.
 POLISH_WIDTH = 1e-4
 #: Distance (in units of eps times the period or the angle range) kept from a break.

@@ -13,11 +13,12 @@ from typing import Optional
 
 import numpy as np
 
-from .design import CHECK_SAMPLES, CamDesign
-from .dynamics_report import DynamicsReport
-from .followers import TranslatingRoller
-from .program import Discontinuity, SegmentSummary
-from .sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
+from .design import CamDesign
+from .extremes import CHECK_SAMPLES
+from .dynamics.report import DynamicsReport
+from .geometry.followers import TranslatingRoller
+from .motion.program import Discontinuity, SegmentSummary
+from .geometry.sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
 
 
 @dataclass(frozen=True)

@@ -8,12 +8,12 @@ lists the parameter events it holds; recover rewrites a file cut short by a kill
 finished one; replay publishes it back with the recorded QoS and timing.
 """
 
-from cam_ros.recording.reader import (format_info, info, open_recording, RecordedMessage,
-                                      Recording, TopicInfo)
+from cam_ros.recording.reader import open_recording, RecordedMessage, Recording, TopicInfo
 from cam_ros.recording.parameters import (CONFIG_ATTACHMENT, ParameterChange,
                                           PARAMETERS_ATTACHMENT, parameter_changes, params_file)
 from cam_ros.recording.recover import recover, Recovery
 from cam_ros.recording.replay import replay
+from cam_ros.recording.summary import format_info, info
 from cam_ros.recording.writer import PARAMETER_EVENTS, Recorder, TopicSpec
 
 __all__ = [

@@ -10,11 +10,11 @@ from typing import Any, Optional
 from rclpy.callback_groups import CallbackGroup
 from rclpy.exceptions import InvalidHandle
 from rclpy.guard_condition import GuardCondition
-# rclpy has no public wait set; its executors and wait_for_message use this one.
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from rclpy.subscription import Subscription
+
+from cam_ros.rclpy_gaps import wait_set
 
 #: One message as taken: its wire bytes and rclpy's message info (timestamps, sequence numbers).
 Taken = tuple[bytes, dict[str, Any]]
@@ -25,7 +25,7 @@ POLL_PERIOD = 0.005
 MAX_BATCH = 1000
 
 
-class _TakenByIntake(CallbackGroup):
+class TakenByIntake(CallbackGroup):
     """A callback group that no executor runs: only the intake takes its messages."""
 
     def can_execute(self, entity: object) -> bool:
@@ -63,13 +63,12 @@ class RawIntake:
         self._stop = threading.Event()
         self._subscriptions: list[Subscription] = []
         self._wake = GuardCondition(None, None, context=node.context)
-        group = _TakenByIntake()
+        group = TakenByIntake()
         try:
             for topic, msg_type, qos in topics:
                 self._subscriptions.append(node.create_subscription(
                     msg_type, topic, _never_called, qos, callback_group=group, raw=True))
-            self._wait_set = _rclpy.WaitSet(len(self._subscriptions), 1, 0, 0, 0, 0,
-                                            node.context.handle)
+            self._wait_set = wait_set(node.context, len(self._subscriptions), 1)
         except BaseException:
             self._release()
             raise
@@ -151,7 +150,7 @@ class RawIntake:
 
 
 def _never_called(data: bytes) -> None:
-    """Stand in for the callback that executors never run (see _TakenByIntake)."""
+    """Stand in for the callback that executors never run (see TakenByIntake)."""
 
 
 def _nothing() -> None:

@@ -7,15 +7,13 @@ to the file the node was started with (CONFIG_ATTACHMENT); every later change is
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, TYPE_CHECKING
+from typing import Any
 
 from rclpy.parameter import parameter_value_to_python
 import yaml
 
-from cam_ros.core.config import flatten
-
-if TYPE_CHECKING:  # the reader imports this module
-    from cam_ros.recording.reader import Recording
+from cam_ros.core.config.schema import flatten
+from cam_ros.recording.reader import Recording
 
 #: The params file the node was started with, verbatim.
 CONFIG_ATTACHMENT = 'cam_config.yaml'
@@ -79,7 +77,7 @@ class ParameterChange:
         return f'{self.name}: {old} -> {self.new!r}'
 
 
-def initial_parameters(recording: 'Recording') -> dict[str, dict[str, Any]]:
+def initial_parameters(recording: Recording) -> dict[str, dict[str, Any]]:
     """Return {node: flat values} of the parameters attached as in force at the start."""
     node = recording.metadata.get('cam_ros', {}).get(NODE_KEY)
     text = recording.attachments.get(PARAMETERS_ATTACHMENT)
@@ -93,7 +91,7 @@ def initial_parameters(recording: 'Recording') -> dict[str, dict[str, Any]]:
     return {node: flatten(tree)} if isinstance(tree, Mapping) else {}
 
 
-def parameter_changes(recording: 'Recording') -> list[ParameterChange]:
+def parameter_changes(recording: Recording) -> list[ParameterChange]:
     """
     Return every parameter event recorded, one row per parameter, in recording order.
 

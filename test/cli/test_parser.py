@@ -6,7 +6,8 @@ import inspect
 import pytest
 from cli_support import assert_one_error_line, DEFAULT_CONFIG, run_cli
 
-from cam_ros.cli import _handler, build_parser, main, one_line
+from cam_ros.cli import _handler, build_parser, main
+from cam_ros.core.errors import one_line
 
 COMMANDS = ('report', 'sample', 'plot', 'export', 'call', 'echo', 'record', 'reload', 'param',
             'info', 'replay', 'recover')

@@ -11,7 +11,7 @@ from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config,
                          run_cli, SHIPPED_CONFIGS)
 
 from cam_ros.commands.common import load_design
-from cam_ros.plot import _follower_lines, _rotation, DPI, FIGURE_SIZE_IN
+from cam_ros.output.plot import _follower_lines, _rotation, DPI, FIGURE_SIZE_IN
 
 PNG_SIGNATURE = b'\x89PNG\r\n\x1a\n'
 DRAWING_TOLERANCE_MM = 1e-9

@@ -6,11 +6,11 @@ import pytest
 from cam_motions import seed_000
 from scipy.interpolate import CubicHermiteSpline
 
-from cam_ros.core.cam_table import (equidistant_table, interpolate, MAX_POINTS, stroke,
-                                    tolerance_table)
+from cam_ros.core.ecam.cam_table import (equidistant_table, interpolate, MAX_POINTS, stroke,
+                                         tolerance_table)
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.laws import make_law
-from cam_ros.core.program import MotionProgram, Segment
+from cam_ros.core.motion.laws import make_law
+from cam_ros.core.motion.program import MotionProgram, Segment
 
 deg = math.radians
 RISE = 0.02  # m, seed 000

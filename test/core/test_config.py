@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 from cam_ros.core import InvalidParameter, build_design, load_config
-from cam_ros.core.config import PARAMETERS, flatten, parse_parameters, read_parameters_file
+from cam_ros.core.config.schema import PARAMETERS, flatten, parse_parameters, read_parameters_file
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
 SHIPPED = sorted(CONFIG_DIR.glob('*.yaml'))

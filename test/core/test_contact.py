@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from cam_ros.core.contact import effective_modulus, half_width, peak_pressure
+from cam_ros.core.dynamics.contact import effective_modulus, half_width, peak_pressure
 
 E, NU = 207e9, 0.3
 

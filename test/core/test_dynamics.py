@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 from cam_ros.core import InvalidParameter, build_design
-from cam_ros.core.config import parse_parameters
-from cam_ros.core.contact import effective_modulus
-from cam_ros.core.dynamics_report import dynamics_report
-from cam_ros.core.geometry import cam_geometry
+from cam_ros.core.config.schema import parse_parameters
+from cam_ros.core.dynamics.contact import effective_modulus
+from cam_ros.core.geometry.cam_geometry import cam_geometry
 
 TWO_PI = 2.0 * math.pi
 H, RB, WIDTH = 0.02, 0.05, 0.01  # m: stroke, base radius, face width
@@ -69,7 +68,7 @@ def test_cosine_cam_forces_torque_and_stress_in_closed_form():
 
 def test_cosine_cam_report_in_closed_form():
     omega = 30.0
-    report = dynamics_report(build(cosine_cam()))
+    report = build(cosine_cam()).dynamics_check
     k0, alpha, beta = cosine_terms(omega)
     amplitude = math.hypot(alpha, beta)
     assert math.isclose(report.contact_force_min, k0 - amplitude, rel_tol=1e-12)
@@ -95,7 +94,7 @@ def test_cosine_cam_report_in_closed_form():
 def test_cosine_cam_spring_sizing_in_closed_form(omega, safety):
     # the preload P with min over theta of k s + P + SF (m a + c v + F) = 0 (none below 0)
     cam = build(cosine_cam(cam_speed=omega, **{'dynamics.jump_safety_factor': safety}))
-    report = dynamics_report(cam)
+    report = cam.dynamics_check
     c = 2 * ZETA * math.sqrt(K * M)
     needed = -(K * H / 2 + safety * F) + H / 2 * math.hypot(K - safety * M * omega ** 2,
                                                             safety * c * omega)
@@ -116,14 +115,14 @@ def test_cosine_cam_jump_speed_and_jump_angles_in_closed_form():
     k0 = K * H / 2 + P + F
     x = np.roots([M ** 2, c ** 2 - 2 * M * K, K ** 2 - (2 * k0 / H) ** 2])
     expected = math.sqrt(min(root.real for root in x if root.real > 0))
-    slow = dynamics_report(build(cosine_cam()))
+    slow = build(cosine_cam()).dynamics_check
     assert math.isclose(slow.jump_speed, expected, rel_tol=1e-12)
     # undamped: omega_j = sqrt((2 K + 2 (P + F) / H) / M)
-    undamped = dynamics_report(build(cosine_cam(**{'dynamics.damping_ratio': 0.0})))
+    undamped = build(cosine_cam(**{'dynamics.damping_ratio': 0.0})).dynamics_check
     assert math.isclose(undamped.jump_speed, math.sqrt((2 * K + 2 * (P + F) / H) / M),
                         rel_tol=1e-12)
     omega = 1.3 * expected
-    fast = dynamics_report(build(cosine_cam(cam_speed=omega)))
+    fast = build(cosine_cam(cam_speed=omega)).dynamics_check
     k0, alpha, beta = cosine_terms(omega)
     centre, half = math.atan2(-beta, -alpha), math.acos(k0 / math.hypot(alpha, beta))
     assert fast.jump and not fast.ok and fast.contact_force_min < 0.0
@@ -153,7 +152,7 @@ def roller_cam(**updates: object) -> dict:
 
 def test_jump_speed_matches_a_brute_force_search():
     cam = build(roller_cam())
-    report = dynamics_report(cam)
+    report = cam.dynamics_check
     theta = np.linspace(0.0, TWO_PI, 400_001)
     motion = cam.program.evaluate(theta)
     m, k, p, c = 0.8, 3000.0, 20.0, 2 * 0.06 * math.sqrt(3000.0 * 0.8)
@@ -173,11 +172,11 @@ def test_jump_speed_matches_a_brute_force_search():
 
 
 def test_conservative_train_does_no_net_work_and_damping_dissipates():
-    conservative = dynamics_report(build(roller_cam(**{'dynamics.damping_ratio': 0.0})))
+    conservative = build(roller_cam(**{'dynamics.damping_ratio': 0.0})).dynamics_check
     # the report averages 7200 samples; T has kinks at the joints: error O(spacing^2) ~ 1e-6
     assert abs(conservative.cycle_work) < 1e-6 * conservative.camshaft_torque_rms * TWO_PI
     cam = build(roller_cam())
-    damped = dynamics_report(cam)
+    damped = cam.dynamics_check
     # net work = c omega * integral of (ds/dtheta)^2 over the turn, by an independent quadrature
     theta = np.linspace(0.0, TWO_PI, 1_000_001)
     ds = cam.program.evaluate(theta).ds
@@ -276,15 +275,15 @@ def test_a_design_without_mass_has_no_dynamics():
     del flat['dynamics.mass'], flat['contact.face_width']
     cam = build(flat)
     assert cam.dynamics is None and cam.evaluate([0.3]).dynamics is None
-    assert dynamics_report(cam) is None
+    assert cam.dynamics_check is None
 
 
 def test_face_width_is_in_the_length_unit_and_stress_limit_is_checked():
     cam = build(roller_cam(**{'limits.contact_stress': 1e6}))
     assert cam.config.dynamics.face_width == pytest.approx(0.01)
-    report = dynamics_report(cam)
+    report = cam.dynamics_check
     assert report.contact_stress_ok is False and not report.ok and not report.jump
-    relaxed = dynamics_report(build(roller_cam(**{'limits.contact_stress': 5e9})))
+    relaxed = build(roller_cam(**{'limits.contact_stress': 5e9})).dynamics_check
     assert relaxed.contact_stress_ok is True and relaxed.ok
 
 
@@ -341,6 +340,6 @@ def test_a_jump_span_through_zero_degrees_wraps():
     k0 = K * H / 2 + P + F
     centre, half = math.atan2(-beta, -alpha), math.acos(k0 / math.hypot(alpha, beta))
     assert centre < half  # the span starts before 0 deg
-    ((start, end),) = dynamics_report(cam).jump_angles
+    ((start, end),) = cam.dynamics_check.jump_angles
     assert math.isclose(start, centre - half + TWO_PI, abs_tol=1e-9)
     assert math.isclose(end, centre + half, abs_tol=1e-9)

@@ -7,7 +7,7 @@ import pytest
 from test_dynamics import build, cosine_cam, H, K, M, P
 
 from cam_ros.core.design import cam_degrees
-from cam_ros.core.dynamics_report import dynamics_report
+from cam_ros.core.dynamics.report import dynamics_report
 from cam_ros.core.report import design_report
 
 TWO_PI = 2.0 * math.pi
@@ -55,5 +55,5 @@ def test_the_dynamics_figures_are_computed_once_and_are_the_reports():
     design = build(cosine_cam())
     figures = design.dynamics_check
     assert figures is not None and design.dynamics_check is figures
-    assert figures == dynamics_report(design)  # the same computation, not a second one
+    assert figures == dynamics_report(design.dynamics, design.program, design.evaluate)
     assert design_report(design).dynamics is figures

@@ -1,4 +1,4 @@
-"""Tests of cam_ros.core.followers: construction checks name the parameter and the rule.
+"""Tests of cam_ros.core.geometry.followers: construction checks name the parameter and the rule.
 
 Their geometry (profiles, pressure angles, curvature) is tested through cam_geometry in
 test_geometry.py.
@@ -6,9 +6,8 @@ test_geometry.py.
 import math
 
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.followers import (
-    OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
-)
+from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                                             TranslatingRoller)
 import pytest
 
 

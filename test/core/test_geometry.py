@@ -1,4 +1,4 @@
-"""Tests of cam_ros.core.geometry against independent references.
+"""Tests of cam_ros.core.geometry.cam_geometry against independent references.
 
 References: finite differences and three-point circles of the computed curves, a direct
 geometric pressure angle, hand-derived circle cases, the mirror rule, the reference note's
@@ -9,11 +9,10 @@ import math
 
 from cam_motions import rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.followers import (
-    OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
-)
-from cam_ros.core.geometry import cam_geometry
-from cam_ros.core.geometry_check import check_geometry
+from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                                             TranslatingRoller)
+from cam_ros.core.geometry.cam_geometry import cam_geometry
+from cam_ros.core.geometry.check import check_geometry
 import numpy as np
 import pytest
 

@@ -1,4 +1,4 @@
-"""Tests of cam_ros.core.geometry_check: undercut, cusps, limits and face width.
+"""Tests of cam_ros.core.geometry.check: undercut, cusps, limits and face width.
 
 References: closed-form extremes and roots of the motion (by brentq or bisection to adjacent
 doubles), the samples' own extremes for the grid-only checks and seed 000's flat-face lecture.
@@ -8,11 +8,11 @@ import math
 
 from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.followers import TranslatingFlat, TranslatingRoller
-from cam_ros.core.geometry import cam_geometry
-from cam_ros.core.geometry_check import check_geometry
-from cam_ros.core.laws import make_law
-from cam_ros.core.program import MotionProgram, Segment
+from cam_ros.core.geometry.followers import TranslatingFlat, TranslatingRoller
+from cam_ros.core.geometry.cam_geometry import cam_geometry
+from cam_ros.core.geometry.check import check_geometry
+from cam_ros.core.motion.laws import make_law
+from cam_ros.core.motion.program import MotionProgram, Segment
 import numpy as np
 import pytest
 

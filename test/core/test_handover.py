@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from cam_ros.core.handover import (agreement, Handover, POSITION_TOLERANCE, SLOPE_TOLERANCE)
-from cam_ros.core.laws import Cycloidal, Dwell, SimpleHarmonic
-from cam_ros.core.master import CamMapping, ElectronicCam
-from cam_ros.core.program import MotionProgram, Segment
+from cam_ros.core.ecam.handover import agreement, Handover, POSITION_TOLERANCE, SLOPE_TOLERANCE
+from cam_ros.core.motion.laws import Cycloidal, Dwell, SimpleHarmonic
+from cam_ros.core.ecam.master import CamMapping, ElectronicCam
+from cam_ros.core.motion.program import MotionProgram, Segment
 
 deg = math.radians
 MAPPING = CamMapping()

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.laws import (
-    ConstantAcceleration, Cycloidal, LAWS, LawValues, make_law, ModifiedSine, ModifiedTrapezoid,
-    Polynomial345, Polynomial4567, PolynomialLaw, SccaLaw, SimpleHarmonic, TableLaw, ViaPointLaw)
+from cam_ros.core.motion.laws import (ConstantAcceleration, Cycloidal, LAWS, LawValues, make_law,
+                                      ModifiedSine, ModifiedTrapezoid, Polynomial345,
+                                      Polynomial4567, PolynomialLaw, SccaLaw, SimpleHarmonic,
+                                      TableLaw, ViaPointLaw)
 
 PI = math.pi
 #: Agreement of two exact computations of the same quantity.

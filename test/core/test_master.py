@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from cam_ros.core import InvalidParameter, build_design, parse_parameters, read_parameters_file
-from cam_ros.core.master import (BACKWARDS, BadMaster, CamMapping, ElectronicCam, estimate,
-                                 LENGTHS, LOST, MasterConfig, MasterTracker, NO_JOINT, NOT_FINITE,
-                                 OK, read_master, STALE, WAITING)
+from cam_ros.core.ecam.master import (BACKWARDS, BadMaster, CamMapping, ElectronicCam, estimate,
+                                      LENGTHS, LOST, MasterConfig, MasterTracker, NO_JOINT,
+                                      NOT_FINITE, OK, read_master, STALE, WAITING)
 
 DEFAULT = Path(__file__).resolve().parents[2] / 'config' / 'default.yaml'
 DESIGN = build_design(parse_parameters(read_parameters_file(DEFAULT)))

@@ -8,10 +8,10 @@ import pytest
 import yaml
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core import params_file
-from cam_ros.core.params_file import (MAX_ARRAY_LENGTH, MAX_DEPTH, MAX_FILE_BYTES,
-                                      MAX_STRING_LENGTH, MAX_VALUES, parse_yaml,
-                                      read_parameters_file, read_yaml)
+from cam_ros.core.config import params_file
+from cam_ros.core.config.params_file import (MAX_ARRAY_LENGTH, MAX_DEPTH, MAX_FILE_BYTES,
+                                             MAX_STRING_LENGTH, MAX_VALUES, parse_yaml,
+                                             read_parameters_file, read_yaml)
 
 BILLION_LAUGHS = '\n'.join(
     ['a0: &a0 [lol, lol, lol, lol, lol, lol, lol, lol, lol]']

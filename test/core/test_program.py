@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.laws import (
-    ConstantAcceleration, ConstantVelocity, Cycloidal, Dwell, make_law, Polynomial4567,
-    SimpleHarmonic, ViaPointLaw)
-from cam_ros.core.program import MotionProgram, Segment
+from cam_ros.core.motion.laws import (ConstantAcceleration, ConstantVelocity, Cycloidal, Dwell,
+                                      make_law, Polynomial4567, SimpleHarmonic, ViaPointLaw)
+from cam_ros.core.motion.program import MotionProgram, Segment
 
 PI = math.pi
 deg = math.radians

@@ -1,4 +1,4 @@
-"""Tests of cam_ros.core.sizing: exact base-radius sizing and seed 002's quick estimate.
+"""Tests of cam_ros.core.geometry.sizing: exact base-radius sizing and seed 002's quick estimate.
 
 References: closed-form minimum radii on the samples (translating followers), the limit checked
 on both sides of the returned radius, monotonicity in the limit, seed 000's flat-face example and
@@ -9,16 +9,14 @@ import math
 
 from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.laws import make_law
-from cam_ros.core.program import MotionProgram, Segment
-from cam_ros.core.followers import (
-    OscillatingFlat, OscillatingRoller, TranslatingFlat, TranslatingRoller,
-)
-from cam_ros.core.geometry import cam_geometry
-from cam_ros.core.geometry_check import check_geometry
-from cam_ros.core.sizing import (
-    BIG_CAM_SIZE_INDEX, DENSE_SAMPLES, estimate_base_radius, SIZING_TOLERANCE, size_base_radius,
-)
+from cam_ros.core.motion.laws import make_law
+from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
+                                             TranslatingRoller)
+from cam_ros.core.geometry.cam_geometry import cam_geometry
+from cam_ros.core.geometry.check import check_geometry
+from cam_ros.core.geometry.sizing import (BIG_CAM_SIZE_INDEX, DENSE_SAMPLES, estimate_base_radius,
+                                          SIZING_TOLERANCE, size_base_radius)
 import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar

@@ -34,7 +34,7 @@ from trajectory_msgs.msg import JointTrajectory
 
 from cam_ros.client import CamClient, CamClientError, FIELDS
 from cam_ros.core import build_design, load_config
-from cam_ros.middleware import use_shipped_profile
+from cam_ros.node.middleware import use_shipped_profile
 from cam_ros.recording import Recorder, TopicSpec
 
 READY_WITHIN_S = 60.0

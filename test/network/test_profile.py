@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from cam_ros.middleware import PROFILE_VARIABLES, use_shipped_profile
+from cam_ros.node.middleware import PROFILE_VARIABLES, use_shipped_profile
 from cam_ros.paths import fastdds_profile_path
 
 from .conftest import DEFAULT

@@ -7,12 +7,10 @@ import time
 import numpy as np
 import pytest
 from conftest import CONFIG_DIR
-from ecam_support import (ecam_design, master_message, MasterLink, phases_profile, RPM,
-                          stamp_of)
+from ecam_support import ecam_design, master_message, MasterLink, phases_profile, RPM, stamp_of
 from rclpy.parameter import Parameter
 from test_node import set_parameters
 
-from cam_ros.core.dynamics_report import dynamics_report
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 TOPIC_MODE = ('-p', 'master.source:=topic')
@@ -164,7 +162,7 @@ def test_a_master_over_the_jump_speed_is_warned_about(start_cam_node, executor):
     machine = CONFIG_DIR / 'machine_dynamics.yaml'
     process, _ = start_cam_node(machine, *TOPIC_MODE, '-p', 'master.scaling:=2.0',
                                 '-p', 'master.timeout:=30.0')
-    jump = dynamics_report(ecam_design(machine)).jump_speed  # cam rad/s
+    jump = ecam_design(machine).dynamics_check.jump_speed  # cam rad/s
     link = MasterLink(executor)
     link.connect(process)
     design = link.diagnostics('cam: design', lambda v: True)

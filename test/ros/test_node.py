@@ -241,7 +241,7 @@ def test_invalid_params_file_exits_2_naming_the_parameter(ros_domain, tmp_path):
 
 
 def test_an_internal_error_rejects_the_update_and_keeps_the_design(ros_context, monkeypatch):
-    import cam_ros.node as node_module
+    import cam_ros.node.node as node_module
 
     node = node_module.CamNode(DEFAULT, context=ros_context)
     try:

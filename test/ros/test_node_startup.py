@@ -24,8 +24,8 @@ from std_srvs.srv import Trigger
 
 from cam_ros.cli import main as cli_main
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
-from cam_ros.node import CamNode
-from cam_ros.node_parameters import USAGE
+from cam_ros.node.node import CamNode
+from cam_ros.node.parameters import USAGE
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 DEFAULT_TEXT = DEFAULT.read_text()

@@ -16,8 +16,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
-from cam_ros.core.cam_table import CamTable
-from cam_ros.core.config import LENGTH_UNITS
+from cam_ros.core.ecam.cam_table import CamTable
+from cam_ros.core.config.schema import LENGTH_UNITS
 
 DEGREE = math.pi / 180.0
 #: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).

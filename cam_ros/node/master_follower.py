@@ -5,7 +5,7 @@ The CamNode creates a MasterFollower when master.source is topic. For every acce
 message (sensor_msgs/JointState) it publishes ~/commands for a forward_command_controller
 (position or velocity of the follower joint), ~/joint_states with the master's stamp and, with a
 trajectory horizon, ~/joint_trajectory for a joint_trajectory_controller; /diagnostics about
-once a second. Every number comes from cam_ros.core.master and cam_ros.core.handover.
+once a second. Every number comes from cam_ros.core.ecam.master and cam_ros.core.ecam.handover.
 """
 from __future__ import annotations
 
@@ -19,7 +19,6 @@ from rclpy.duration import Duration
 from rclpy.exceptions import InvalidHandle
 from rclpy.guard_condition import GuardCondition
 # rclpy has no public wait set; its executors and wait_for_message use this one.
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
@@ -29,11 +28,12 @@ from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.handover import Handover
-from cam_ros.core.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
-                                 MasterTracker, OK, read_master, STALE, WAITING)
+from cam_ros.core.ecam.handover import Handover
+from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
+                                      MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.recording import Recorder, TopicSpec
-from cam_ros.recording.intake import _TakenByIntake
+from cam_ros.rclpy_gaps import wait_set
+from cam_ros.recording.intake import TakenByIntake
 
 #: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
 MASTER_QOS = QoSProfile(depth=1000)
@@ -77,9 +77,9 @@ class MasterIntake:
         self._callback = callback
         self._stop = threading.Event()
         self.subscription = node.create_subscription(JointState, topic, callback, MASTER_QOS,
-                                                     callback_group=_TakenByIntake())
+                                                     callback_group=TakenByIntake())
         self._wake = GuardCondition(None, None, context=node.context)
-        self._wait_set = _rclpy.WaitSet(1, 1, 0, 0, 0, 0, node.context.handle)
+        self._wait_set = wait_set(node.context, 1, 1)
         self._node = node
         self._thread = threading.Thread(target=self._run, name='master', daemon=True)
         self._thread.start()

@@ -27,7 +27,7 @@ from typing import Callable, Optional, Union
 import numpy as np
 
 from .envelope import dot, flat_envelope, pressure_angle, Profile, relative_motion, roller_profile
-from .errors import InvalidParameter
+from ..errors import InvalidParameter
 
 Array = np.ndarray
 

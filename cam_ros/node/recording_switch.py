@@ -15,8 +15,8 @@ from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 
 from cam_ros.core import CamDesign, CamError
-from cam_ros.ecam import MasterFollower
-from cam_ros.node_parameters import RECORDING_SWITCH
+from cam_ros.node.master_follower import MasterFollower
+from cam_ros.node.parameters import RECORDING_SWITCH
 from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
                                params_file, Recorder, TopicSpec)
 from cam_ros.recording.parameters import NODE_KEY

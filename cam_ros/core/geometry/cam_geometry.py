@@ -28,7 +28,7 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import InvalidParameter
+from ..errors import InvalidParameter
 from .followers import _check_follower, _first_bad, Follower
 
 Array = np.ndarray

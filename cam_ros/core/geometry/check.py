@@ -13,11 +13,11 @@ from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 
-from .errors import InvalidParameter
-from .extremes import refine_extrema, refine_roots, TWO_PI
+from ..errors import InvalidParameter
+from ..extremes import refine_extrema, refine_roots, TWO_PI
 from .followers import _real, Follower, ROLLERS
-from .geometry import _frozen, CamGeometry
-from .program import MotionProgram
+from .cam_geometry import _frozen, CamGeometry
+from ..motion.program import MotionProgram
 
 Array = np.ndarray
 

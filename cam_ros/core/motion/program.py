@@ -20,8 +20,9 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ._law_base import checked_array, float_array, FloatArray, LawValues, workspace
-from .errors import InvalidParameter
+from ..arrays import checked_array, float_array, FloatArray
+from ._law_base import LawValues, workspace
+from ..errors import InvalidParameter
 from .laws import Dwell, LAWS, MotionLaw
 
 TWO_PI = 2.0 * math.pi

@@ -16,10 +16,11 @@ from typing import Callable, ClassVar, Mapping, Sequence, TYPE_CHECKING
 
 import numpy as np
 
-from ._law_base import FloatArray, full_like, InPlaceLaw, LawValues, MotionLaw
+from ..arrays import FloatArray
+from ._law_base import full_like, InPlaceLaw, LawValues, MotionLaw
 from ._polynomial import Condition, Polynomial345, Polynomial4567, PolynomialLaw
 from ._sine_acceleration import ModifiedSine, ModifiedTrapezoid, SccaLaw, ViaPointLaw
-from .errors import InvalidParameter
+from ..errors import InvalidParameter
 
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly

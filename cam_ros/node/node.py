@@ -18,7 +18,6 @@ from builtin_interfaces.msg import Duration
 from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Point, Vector3Stamped
 from rcl_interfaces.msg import SetParametersResult
-from rclpy._rclpy_pybind11 import RCLError
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -29,20 +28,20 @@ from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
-from cam_ros.cli import one_line
-from cam_ros.commands.common import EXIT_INVALID
+from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, check_angles,
                           parse_parameters)
-from cam_ros.core.config import PARAMETERS, SPECS
-from cam_ros.ecam import MasterFollower
-from cam_ros.joints import joint_coordinates
-from cam_ros.middleware import use_shipped_profile
-from cam_ros.node_parameters import (declared_value, descriptor, parameter_sources,
-                                     ParameterSources, parse_command_line, plain,
-                                     RECORDING_SWITCH, reload_parameters, ros_node_parameters,
-                                     start_rclpy, USAGE)
-from cam_ros.node_recording import NodeRecording
+from cam_ros.core.config.schema import PARAMETERS, SPECS
+from cam_ros.core.errors import one_line
+from cam_ros.node.master_follower import MasterFollower
+from cam_ros.node.joints import joint_coordinates
+from cam_ros.node.middleware import use_shipped_profile
+from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
+                                     ParameterSources, parse_command_line, plain, RECORDING_SWITCH,
+                                     reload_parameters, ros_node_parameters, start_rclpy, USAGE)
+from cam_ros.node.recording_switch import NodeRecording
 from cam_ros.paths import default_config_path
+from cam_ros.rclpy_gaps import RCLError
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
@@ -341,7 +340,3 @@ def main(args: Sequence[str] | None = None) -> int:
             node.destroy_node()
         rclpy.try_shutdown()
     return code
-
-
-if __name__ == '__main__':
-    sys.exit(main())

@@ -29,7 +29,7 @@ from yaml.events import AliasEvent
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from yaml.resolver import Resolver
 
-from .errors import InvalidParameter
+from ..errors import InvalidParameter
 
 #: Node names whose section of a parameters file the cam node reads, merged in file order.
 NODE_NAMES = ('cam', '/cam', '/**')

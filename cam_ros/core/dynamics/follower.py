@@ -48,8 +48,8 @@ import numpy as np
 import numpy.typing as npt
 
 from .contact import effective_modulus, half_width, peak_pressure
-from .errors import InvalidParameter
-from .followers import Follower, OscillatingRoller, TranslatingFlat, TranslatingRoller
+from ..errors import InvalidParameter
+from ..geometry.followers import Follower, OscillatingRoller, TranslatingFlat, TranslatingRoller
 
 Array = npt.NDArray[np.float64]
 

@@ -20,9 +20,9 @@ import math
 
 import numpy as np
 
-from ._law_base import FloatArray
+from ..arrays import FloatArray
 from .master import ElectronicCam
-from .program import TWO_PI
+from ..motion.program import TWO_PI
 
 #: Largest slave position difference (m, or rad of arm angle) at which two cams agree.
 POSITION_TOLERANCE = 1e-9

@@ -19,15 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
-from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
-                                ParameterType)
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, ParameterType
 import rclpy
-from rclpy._rclpy_pybind11 import RCLError
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core.config import PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS, ParameterSpec
-from cam_ros.core.params_file import parse_yaml, read_parameters_file
+from cam_ros.core.config.schema import PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS, ParameterSpec
+from cam_ros.core.config.params_file import parse_yaml, read_parameters_file
+from cam_ros.rclpy_gaps import RCLError
 
 NODE_NAME = 'cam'
 ROS_TYPES = {

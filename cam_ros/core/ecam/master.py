@@ -30,8 +30,8 @@ from typing import Any, Mapping, NamedTuple, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from .config import CamConfig, LENGTH_UNITS
-from .program import MotionProgram, TWO_PI
+from ..config.schema import CamConfig, LENGTH_UNITS
+from ..motion.program import MotionProgram, TWO_PI
 
 #: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.
 WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'

@@ -15,14 +15,12 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .errors import InvalidParameter
+from ..errors import InvalidParameter
 from .followers import _check_follower, _real, Follower
-from .geometry import _check_motion
-from .geometry_check import (
-    _abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
-    _worst_curvature, Measure,
-)
-from .program import MotionProgram
+from .cam_geometry import _check_motion
+from .check import (_abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
+                    _worst_curvature, Measure)
+from ..motion.program import MotionProgram
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
 SIZING_TOLERANCE = 1e-16  # m: the returned radius is within this (plus 4 ulp) of the exact one

@@ -8,14 +8,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional, cast
+from typing import Any, Callable, Optional, cast
 
 import numpy as np
 import numpy.typing as npt
 
-from .design import CHECK_SAMPLES, TWO_PI, CamDesign
-from .dynamics import DynamicsValues
-from .extremes import refine_extremum, refine_roots
+from ..extremes import CHECK_SAMPLES, refine_extremum, refine_roots, TWO_PI
+from ..motion.program import MotionProgram
+from .follower import DynamicsValues, FollowerDynamics
 
 Array = npt.NDArray[np.float64]
 
@@ -81,21 +81,23 @@ def _negative_spans(func: Callable[[Array], Array], theta: Array, values: Array,
                  for start, end in zip(roots[negative], ends[negative]))
 
 
-def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
-    """Compute the dynamics figures of a design, None when it has no dynamics."""
-    model = design.dynamics
-    if model is None:
-        return None
+def dynamics_report(model: FollowerDynamics, program: MotionProgram,
+                    evaluate: Callable[[Array], Any]) -> DynamicsReport:
+    """Compute the dynamics figures of a design at its cam speed.
+
+    model is its follower train, program its motion and evaluate(angles) its full evaluation
+    (a CamState: position, ds, d2s, radius_of_curvature and dynamics at those angles).
+    """
     config = model.config
     theta = np.linspace(0.0, TWO_PI, CHECK_SAMPLES, endpoint=False)
-    breaks = design.program.breaks
+    breaks = program.breaks
 
     def values(angles: Array) -> DynamicsValues:
-        return cast(DynamicsValues, design.evaluate(angles).dynamics)
+        return cast(DynamicsValues, evaluate(angles).dynamics)
 
     def per_motion(method: Callable[..., Array]) -> Callable[[Array], Array]:
         def func(angles: Array) -> Array:
-            motion = design.program.evaluate(angles)
+            motion = program.evaluate(angles)
             return method(motion.s, motion.ds, motion.d2s)
         return func
 
@@ -109,7 +111,7 @@ def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
     def stress(angles: Array) -> Array:
         return ranked(values(angles).contact_stress)
 
-    dense = design.evaluate(theta)  # the one dense pass; refinement evaluates only brackets
+    dense = evaluate(theta)  # the one dense pass; refinement evaluates only brackets
     grid = cast(DynamicsValues, dense.dynamics)
     motion = (dense.position, dense.ds, dense.d2s)  # position is s (at_speed keeps it)
     force_min, force_min_at = extreme('contact_force', 'min', grid.contact_force)
@@ -130,7 +132,7 @@ def dynamics_report(design: CamDesign) -> Optional[DynamicsReport]:
                                   inverse(model.jump_speeds(*motion)), 'max', breaks=breaks)
     needed, _ = refine_extremum(per_motion(model.preload_shortfall), theta,
                                 model.preload_shortfall(*motion), 'max', breaks=breaks)
-    at_peak = design.evaluate(np.array([stress_at]))
+    at_peak = evaluate(np.array([stress_at]))
     width = model.half_width(cast(DynamicsValues, at_peak.dynamics).contact_force,
                              at_peak.radius_of_curvature)
     limit = config.contact_stress_limit

@@ -25,9 +25,9 @@ from typing import NamedTuple, Optional
 
 import numpy as np
 
-from ._law_base import FloatArray
-from .errors import InvalidParameter
-from .program import MotionProgram
+from ..arrays import FloatArray
+from ..errors import InvalidParameter
+from ..motion.program import MotionProgram
 
 TWO_PI = 2.0 * math.pi
 INTERPOLATIONS = ('linear', 'cubic')

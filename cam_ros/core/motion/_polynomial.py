@@ -8,8 +8,9 @@ from typing import ClassVar, Sequence
 import numpy as np
 from numpy.polynomial import polynomial
 
-from ._law_base import finite_float, FloatArray, InPlaceLaw, LawValues
-from .errors import InvalidParameter
+from ..arrays import finite_float, FloatArray
+from ._law_base import InPlaceLaw, LawValues
+from ..errors import InvalidParameter
 
 #: Largest |y(0)| and |y(1) - 1| accepted for a polynomial rise.
 END_TOLERANCE = 1e-9

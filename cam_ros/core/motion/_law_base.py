@@ -9,9 +9,7 @@ from typing import Callable, ClassVar, NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from .errors import InvalidParameter
-
-FloatArray = npt.NDArray[np.float64]
+from ..arrays import checked_array, FloatArray
 
 #: Samples per law piece in the search for the peaks of |y'|, |y''|, |y'''|.
 PEAK_SAMPLES = 1025
@@ -33,35 +31,6 @@ class LawValues(NamedTuple):
 
 
 Derivatives = Callable[[FloatArray], LawValues]
-
-
-def finite_float(parameter: str, value: object) -> float:
-    """Return value as a finite float, or raise naming the parameter."""
-    try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError) as err:
-        raise InvalidParameter(parameter, value, 'must be a finite number') from err
-    if not math.isfinite(number):
-        raise InvalidParameter(parameter, value, 'must be a finite number')
-    return number
-
-
-def float_array(parameter: str, values: npt.ArrayLike, rule: str) -> FloatArray:
-    """Return values as a float array (no copy when already one), or raise naming the parameter."""
-    try:
-        return np.asarray(values, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise InvalidParameter(parameter, values, rule) from err
-
-
-def checked_array(parameter: str, values: npt.ArrayLike,
-                  valid: Callable[[FloatArray], npt.NDArray[np.bool_]], rule: str) -> FloatArray:
-    """Return values as a float array, or raise naming the parameter and the first bad value."""
-    array = float_array(parameter, values, rule)
-    good = valid(array)
-    if not np.all(good):
-        raise InvalidParameter(parameter, float(array[~good].flat[0]), rule)
-    return array
 
 
 def workspace(u: npt.ArrayLike) -> LawValues:

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from .contact import STEEL_MODULUS, STEEL_POISSON
-from .dynamics import DynamicsConfig, parse_dynamics
-from .errors import InvalidParameter
+from ..dynamics.contact import STEEL_MODULUS, STEEL_POISSON
+from ..dynamics.follower import DynamicsConfig, parse_dynamics
+from ..errors import InvalidParameter
 # The file side of the format (safe YAML reading, node sections) lives in params_file; these
 # names stay importable from here.
 from .params_file import (MAX_ARRAY_LENGTH, MAX_STRING_LENGTH, NODE_NAMES, flatten,  # noqa: F401

@@ -7,8 +7,9 @@ from typing import ClassVar, Sequence
 
 import numpy as np
 
-from ._law_base import finite_float, FloatArray, LawValues, MotionLaw
-from .errors import InvalidParameter
+from ..arrays import finite_float, FloatArray
+from ._law_base import LawValues, MotionLaw
+from ..errors import InvalidParameter
 
 #: Largest |b + c + d - 1| accepted for an SCCA law.
 FRACTION_SUM_TOLERANCE = 1e-9

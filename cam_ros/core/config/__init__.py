@@ -1,0 +1,1 @@
+"""Config: the parameters schema of a cam design and the safe parameters-file reader."""

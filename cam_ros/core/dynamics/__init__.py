@@ -1,0 +1,1 @@
+"""Dynamics: follower forces, spring, jump, camshaft torque and Hertz contact stress."""

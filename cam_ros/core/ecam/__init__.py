@@ -1,0 +1,1 @@
+"""Electronic cam maths: following a master axis, handover between designs, cam tables."""

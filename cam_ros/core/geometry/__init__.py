@@ -1,0 +1,1 @@
+"""Geometry: followers, the cam profile (envelope), pressure angle and curvature checks, sizing."""

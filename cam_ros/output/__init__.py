@@ -1,0 +1,1 @@
+"""Output writers: plots, manufacturing drawings (CSV, DXF, SVG) and PLC cam tables."""
