@@ -24,9 +24,12 @@ from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, T
 from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
 from .motion.laws import MotionLaw, make_law
-from .motion.program import MotionProgram, Segment
+from .motion.program import Discontinuity, MotionProgram, Segment
 
 TWO_PI = 2.0 * math.pi
+#: Added to a velocity jump's warning: it fails the verdict unless the config allows it.
+_VELOCITY_JUMP_NOTE = ('', ' (an infinite acceleration: set limits.allow_velocity_jumps: true '
+                           'to accept it)')
 #: Boundary conditions of the 3-4-5 law (u, derivative order, value) that a polynomial segment
 #: with via points keeps: rest to rest with zero acceleration at both ends.
 REST_TO_REST = ((0.0, 0, 0.0), (0.0, 1, 0.0), (0.0, 2, 0.0),
@@ -119,11 +122,23 @@ class CamDesign:
             return None
         return dynamics_report(self.dynamics, self.program, self.evaluate)
 
+    @cached_property
+    def velocity_jumps(self) -> tuple[Discontinuity, ...]:
+        """Return the joints where ds/dtheta jumps (an infinite acceleration).
+
+        They fail the verdict unless limits.allow_velocity_jumps is true.
+        """
+        return tuple(jump for jump in self.program.continuity_report() if jump.order == 1)
+
     @property
     def ok(self) -> bool:
-        """Return True when the design meets its limits, is not undercut and does not jump."""
+        """Return True when the design meets its limits, is not undercut and does not jump.
+
+        A velocity jump at a joint fails it too, unless limits.allow_velocity_jumps is true.
+        """
         dynamics = self.dynamics_check
-        return self.check.ok and (dynamics is None or dynamics.ok)
+        return (self.check.ok and (dynamics is None or dynamics.ok)
+                and (self.config.allow_velocity_jumps or not self.velocity_jumps))
 
     def warnings(self) -> list[str]:
         """Say, once, what a designer must know: limits broken, undercut, discontinuities, jump."""
@@ -145,7 +160,9 @@ class CamDesign:
             if jump.order <= 2:
                 name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
                 notes.append(f'{name} jumps by {jump.jump:.6g} {unit}/rad^{jump.order} at '
-                             f'{math.degrees(jump.angle):.2f} deg')
+                             f'{math.degrees(jump.angle):.2f} deg'
+                             + _VELOCITY_JUMP_NOTE[jump.order == 1
+                                                   and not self.config.allow_velocity_jumps])
         dynamics = self.dynamics_check
         if dynamics is None:
             return notes

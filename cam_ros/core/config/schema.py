@@ -125,6 +125,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        'of the cam surface where convex', unit='length_unit', minimum=0.0),
     _p('limits.contact_stress', 'double', 0.0, 'Allowable Hertz peak contact pressure p0 '
        '(0: not checked)', unit='Pa', minimum=0.0, maximum=1e12),
+    _p('limits.allow_velocity_jumps', 'bool', False, 'Let a design whose ds/dtheta jumps at a '
+       'joint (an infinite acceleration) pass the verdict'),
     _p('dynamics.mass', 'double', 0.0, 'Moving mass of a translating follower train (0: no '
        'dynamics)', unit='kg', minimum=0.0, maximum=1e6),
     _p('dynamics.arm_inertia', 'double', 0.0, 'Inertia of an oscillating arm about its pivot '
@@ -235,6 +237,7 @@ class CamConfig:
     motion: MotionConfig
     pressure_angle_limit: float
     min_radius_of_curvature: float
+    allow_velocity_jumps: bool
     sample_count: int
     state_rate_hz: float
     max_batch: int
@@ -353,6 +356,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         motion=motion,
         pressure_angle_limit=math.radians(values['limits.pressure_angle_deg']),
         min_radius_of_curvature=values['limits.min_radius_of_curvature'] * metre,
+        allow_velocity_jumps=values['limits.allow_velocity_jumps'],
         sample_count=values['output.sample_count'],
         state_rate_hz=values['output.state_rate_hz'],
         max_batch=values['output.max_batch'],
