@@ -145,10 +145,13 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                        help='write a cam table instead of the surface')
     spacing = table.add_mutually_exclusive_group()
     spacing.add_argument('--points', type=POINTS, default=None, metavar='N',
-                         help='N equidistant master points over one revolution (default 360)')
-    spacing.add_argument('--tolerance', type=POSITIVE, default=None, metavar='T',
-                         help='fewest points whose interpolation stays within T of the exact '
-                              'law (m, or rad for oscillating followers)')
+                         help='N equidistant master steps over one revolution (default 360): '
+                              'N + 1 rows with the end point 360 deg, N without')
+    spacing.add_argument('--tolerance', default=None, metavar='T',
+                         help='place points so that the interpolation stays within T of the '
+                              'exact law; T in the table\'s unit (the config\'s length_unit, '
+                              'deg for oscillating followers) or with a unit: 0.01mm, 10um, '
+                              '1e-5m, 0.1deg')
     table.add_argument('--format', dest='table_format', default=None,
                        choices=tuple(TABLE_FORMATS),
                        help='csv (default), sew (MOVI-C point list), xyva (CODESYS '

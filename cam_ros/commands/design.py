@@ -344,29 +344,51 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
     return verdict('export', design)
 
 
-def export_cam_table(config: str, output: str, points: int | None, tolerance: float | None,
+def export_cam_table(config: str, output: str, points: int | None, tolerance: str | None,
                      table_format: str, interpolation: str, end_point: bool | None,
                      derivatives: bool) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
-    from cam_ros.output.cam_table_formats import cam_table_text, check_options, slave_unit
+    from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
+                                                  slave_unit)
+    from cam_ros.core.config.quantity import split_quantity
     from cam_ros.core.ecam.cam_table import equidistant_table, tolerance_table
 
     target = Path(output)
     with_derivatives = check_options(table_format, interpolation, derivatives)
+    if tolerance is not None:
+        split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
     design = load_design(config)
+    unit, factor = slave_unit(design)
+    limit = None if tolerance is None else _table_tolerance(tolerance, design)
     try:
-        table = (tolerance_table(design.program, tolerance, interpolation)
-                 if tolerance is not None else
+        table = (tolerance_table(design.program, limit, interpolation, unit=(unit, factor))
+                 if limit is not None else
                  equidistant_table(design.program, DEFAULT_TABLE_POINTS if points is None
                                    else points, interpolation))
-    except InvalidParameter as err:  # name the option, not the core's argument
-        raise InvalidParameter(f'--{err.parameter}', err.value, err.rule) from err
+    except InvalidParameter as err:  # name the option and its value as typed
+        value = tolerance if err.parameter == 'tolerance' else err.value
+        raise InvalidParameter(f'--{err.parameter}', value, err.rule) from err
     text = cam_table_text(table, design, table_format, Path(config).name,
                           True if end_point is None else end_point, with_derivatives)
     with writing('export', f'writing {target}', target):
         target.write_text(text, encoding='utf-8')
-    unit, factor = slave_unit(design)
+    within = '' if table.tolerance is None else \
+        f' within a tolerance of {number(table.tolerance * factor)} {unit}'
     print(f'wrote {target}: cam table of {len(table.master_deg) - (end_point is False)} '
-          f'points ({table_format}, {interpolation} interpolation), worst deviation '
+          f'points ({table_format}, {interpolation} interpolation){within}, worst deviation '
           f'{number(table.max_error * factor)} {unit}')
+    note = size_note(table_format, len(table.master_deg) - (end_point is False))
+    if note:
+        print(f'note: {note}')
     return verdict('export', design)
+
+
+def _table_tolerance(text: str, design: CamDesign) -> float:
+    """Return --tolerance in SI: a bare number is in the table's unit (see slave_unit)."""
+    from cam_ros.core.config.quantity import typed_quantity
+
+    value = typed_quantity('--tolerance', text, design.config.length_unit,
+                           angular=design.config.follower.type.startswith('oscillating'))
+    if value <= 0.0:
+        raise InvalidParameter('--tolerance', text, 'must be > 0')
+    return value

@@ -22,6 +22,8 @@ from cam_ros.core.config.schema import LENGTH_UNITS
 DEGREE = math.pi / 180.0
 #: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).
 SEW_MAX_POINTS = 16383
+#: Points a SEW MOVI-C point list holds by default (its list size parameter; up to SEW_MAX_POINTS).
+SEW_DEFAULT_POINTS = 1024
 #: Name of the array in the structured-text file.
 ST_NAME = 'CamTable'
 ST_INDENT = '    '
@@ -34,6 +36,7 @@ class TableFormat:
     derivatives: str  # 'never', 'optional' or 'always' (velocity and acceleration columns)
     write: Callable[[Sequence[str], np.ndarray, Sequence[str]], str]
     max_points: int = 0  # 0: no limit of its own
+    default_points: int = 0  # what the target holds unless configured for more (0: no such size)
 
 
 def number(value: float) -> str:
@@ -67,10 +70,19 @@ def _write_st(notes: Sequence[str], values: np.ndarray, names: Sequence[str]) ->
 
 FORMATS: dict[str, TableFormat] = {
     'csv': TableFormat('optional', _write_csv),
-    'sew': TableFormat('never', _write_sew, SEW_MAX_POINTS),
+    'sew': TableFormat('never', _write_sew, SEW_MAX_POINTS, SEW_DEFAULT_POINTS),
     'xyva': TableFormat('always', _write_csv),
     'st': TableFormat('never', _write_st),
 }
+
+
+def size_note(name: str, rows: int) -> str | None:
+    """Return a note when a table of rows points exceeds the target's default list size."""
+    default = FORMATS[name].default_points
+    if not default or rows <= default:
+        return None
+    return (f'{rows} points exceed the {name} target\'s default list size of {default}: '
+            f'configure the list for {rows} points (at most {FORMATS[name].max_points})')
 
 
 def check_options(name: str, interpolation: str, derivatives: bool) -> bool:
@@ -111,10 +123,10 @@ def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point
            derivatives: bool) -> list[str]:
     """Return the header lines: what the table is, what it assumes, how exact it is."""
     unit, factor = slave_unit(design)
-    si = 'rad' if unit == 'deg' else 'm'
     steps = len(table.master_deg) - 1
-    spacing = (f'placed for {table.interpolation} interpolation within {table.tolerance:.6g} '
-               f'{si} (greedy, fewest for this check; segment boundaries are points)'
+    spacing = (f'placed for {table.interpolation} interpolation within a tolerance of '
+               f'{table.tolerance * factor:.6g} {unit} (greedy; segment boundaries are '
+               f'points)'
                if table.tolerance is not None else f'equidistant, every {360.0 / steps:.12g} deg')
     periodic = ('the periodic end point 360 deg included' if end_point else
                 'periodic: the end point 360 deg repeats 0 deg and is left out')
@@ -140,8 +152,9 @@ def cam_table_text(table: CamTable, design: CamDesign, name: str, source: str,
     if not end_point:
         values = values[:-1]
     if target.max_points and len(values) > target.max_points:
+        unit, factor = slave_unit(design)
         option, value = (('--points', len(values) - end_point) if table.tolerance is None
-                         else ('--tolerance', table.tolerance))
+                         else ('--tolerance', f'{number(table.tolerance * factor)} {unit}'))
         raise InvalidParameter(option, value, f'gives {len(values)} points; --format {name} '
                                               f'takes at most {target.max_points}')
     notes = _notes(table, design, source, len(values), end_point, derivatives)

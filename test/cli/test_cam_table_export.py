@@ -7,7 +7,7 @@ import re
 import numpy as np
 import pytest
 from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, run_cli,
-                         SHIPPED_CONFIGS)
+                         SHIPPED_CONFIGS, write_config)
 from scipy.interpolate import CubicHermiteSpline
 
 from cam_ros.commands.common import load_design
@@ -93,19 +93,19 @@ def test_periodic_end_point_is_an_option(end_point, rows, tmp_path, capsys):
 
 
 def test_tolerance_table_interpolates_within_the_tolerance(tmp_path, capsys):
-    notes, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--tolerance', 1e-6))
+    notes, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv', '--tolerance', '1um'))
     master, slave = values.T
     error = np.abs(np.interp(DENSE_DEG, master, slave) - exact_cm(DENSE_DEG)).max()
     assert error <= 1e-6 / CM
     stated = worst_deviation(notes)
     assert error <= stated * (1 + 1e-9) and stated <= 1e-6 / CM
-    assert 'placed for linear interpolation within 1e-06 m' in notes[1]
+    assert 'placed for linear interpolation within a tolerance of 0.0001 cm' in notes[1]
     np.testing.assert_allclose(slave, exact_cm(master), rtol=0, atol=ROUND_TRIP * RISE_CM)
     assert len(values) < 250  # 184 measured; 502 equidistant points are needed for 1 um
 
 
 def test_cubic_xyva_is_hermite_within_the_tolerance(tmp_path, capsys):
-    text = export_table(capsys, tmp_path / 'cam.xyva', '--tolerance', 1e-6, '--format', 'xyva',
+    text = export_table(capsys, tmp_path / 'cam.xyva', '--tolerance', '1um', '--format', 'xyva',
                         '--interpolation', 'cubic')
     notes, names, values = read_csv(text)
     assert len(names) == 4 and 'cubic Hermite' in notes[2]
@@ -163,15 +163,17 @@ def test_every_shipped_config_exports_a_table(config, tmp_path, capsys):
 @pytest.mark.parametrize('options, fragments', [
     (['--points', '0'], ['--points', "'0'", 'integer >= 2']),
     (['--points', '-4'], ['--points', 'integer >= 2']),
-    (['--tolerance', '0'], ['--tolerance', 'number > 0']),
-    (['--tolerance=-1e-6'], ['--tolerance', 'number > 0']),
-    (['--tolerance', '0.5'], ['--tolerance = 0.5', 'must be in [', '0.02]']),
+    (['--tolerance', '0'], ['--tolerance', 'must be > 0']),
+    (['--tolerance=-1e-6'], ['--tolerance', 'must be > 0']),
+    (['--tolerance', '5'], ["--tolerance = '5'", 'must be in [', '2] cm']),
+    (['--tolerance', '0.1deg'], ['--tolerance', 'must be a length here', 'bare number in cm']),
+    (['--tolerance', '1 parsec'], ['--tolerance', "unknown unit 'parsec'"]),
     (['--format', 'dxf'], ['--format', "invalid choice: 'dxf'"]),
     (['--format', 'sew', '--interpolation', 'cubic'], ['--interpolation', 'sew']),
     (['--format', 'st', '--derivatives'], ['--derivatives', 'st']),
     (['--points', '20000', '--format', 'sew'], ['--points = 20000', 'at most 16383']),
     (['--samples', '10'], ['--samples', 'a cam table takes --points or --tolerance']),
-    (['--points', '10', '--tolerance', '1e-6'], ['not allowed with argument']),
+    (['--points', '10', '--tolerance', '1um'], ['not allowed with argument']),
 ])
 def test_bad_cam_table_input_exits_2_and_writes_nothing(options, fragments, tmp_path, capsys):
     target = tmp_path / 'cam.csv'
@@ -200,3 +202,68 @@ def test_default_table_is_one_point_per_degree(tmp_path, capsys):
     _, _, values = read_csv(export_table(capsys, tmp_path / 'cam.csv'))
     np.testing.assert_array_equal(values[:, 0], np.arange(361.0))
     assert math.isclose(values[:, 1].max(), RISE_CM)
+
+
+def mm_config(directory):
+    """Seed 000 written in millimetres (the same cam)."""
+    def in_mm(parameters):
+        parameters['length_unit'] = 'mm'
+        for key in ('base_radius', 'roller_radius', 'offset'):
+            parameters['follower'][key] *= 10.0
+        for key in ('start_position', 'end_position'):
+            parameters['motion'][key] = [10.0 * value for value in parameters['motion'][key]]
+        parameters['limits']['min_radius_of_curvature'] *= 10.0
+    return write_config(directory, 'seed_000_mm', in_mm)
+
+
+@pytest.mark.parametrize('tolerance', ['0.01', '0.01mm', '10um', '1e-5m', '0.001cm'])
+def test_a_bare_tolerance_is_in_the_tables_unit_and_a_suffix_is_its_own(tmp_path, capsys,
+                                                                         tolerance):
+    config = mm_config(tmp_path)
+    target = tmp_path / 'cam.csv'
+    run = run_cli(capsys, 'export', config, '-o', target, '--cam-table', '--tolerance', tolerance)
+    assert run.code == 0, run
+    assert 'within a tolerance of 0.01 mm' in run.out
+    notes, names, values = read_csv(target.read_text())
+    assert names == ['master_deg', 'slave_mm']
+    assert 'within a tolerance of 0.01 mm' in notes[1]
+    master, slave = values.T
+    exact = exact_cm(DENSE_DEG, config) * 10.0  # mm
+    error = np.abs(np.interp(DENSE_DEG, master, slave) - exact).max()
+    assert 0.005 < error <= 0.01  # a table for 0.01 mm, not for 0.01 m (10 mm, 3 points)
+
+
+def test_an_oscillating_table_takes_degrees(tmp_path, capsys):
+    config = follower_config(tmp_path, 'oscillating_roller')
+    texts = []
+    for tolerance in ('0.01', '0.01deg', f'{math.radians(0.01)!r}rad'):
+        target = tmp_path / f'cam{len(texts)}.csv'
+        run = run_cli(capsys, 'export', config, '-o', target, '--cam-table', '--tolerance',
+                      tolerance)
+        assert run.code == 0 and 'within a tolerance of 0.01 deg' in run.out, run
+        texts.append(target.read_text())
+    assert texts[0] == texts[1] and len(texts[0].splitlines()) == len(texts[2].splitlines())
+    run = run_cli(capsys, 'export', config, '-o', tmp_path / 'x.csv', '--cam-table',
+                  '--tolerance', '0.01mm')
+    assert_one_error_line(run, 'export', "--tolerance = '0.01mm'", 'must be an angle here')
+
+
+def test_help_states_rows_and_tolerance_unit_and_claims_no_fewest(capsys):
+    run = run_cli(capsys, 'export', '--help')
+    text = ' '.join(run.out.split())
+    assert run.code == 0
+    assert 'N + 1 rows with the end point 360 deg' in text
+    assert "T in the table's unit" in text and '0.01mm' in text
+    assert 'fewest' not in text
+
+
+@pytest.mark.parametrize('points, noted', [(1023, False), (1024, True), (2000, True)])
+def test_a_sew_table_over_the_default_list_size_gets_a_note(tmp_path, capsys, points, noted):
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', tmp_path / 'cam.txt', '--cam-table',
+                  '--points', points, '--format', 'sew')
+    assert run.code == 0
+    rows = int((tmp_path / 'cam.txt').read_text().splitlines()[0])
+    assert rows == points + 1
+    assert ('note: ' in run.out) is noted
+    if noted:
+        assert f'{rows} points exceed' in run.out and 'default list size of 1024' in run.out

@@ -82,5 +82,5 @@ def test_a_negative_number_in_exponent_form_is_a_value_not_an_option(value, tmp_
     target = tmp_path / 'table.csv'
     run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', target, '--cam-table',
                   '--tolerance', value)
-    assert_one_error_line(run, 'export', f"--tolerance: '{value}'", '> 0')
+    assert_one_error_line(run, 'export', f"--tolerance = '{value}'", '> 0')
     assert not target.exists()

@@ -159,3 +159,24 @@ def test_bad_tolerances_are_refused(tolerance):
 def test_unknown_interpolation_is_refused():
     with pytest.raises(InvalidParameter, match='interpolation = .spline.: must be one of linear'):
         equidistant_table(SEED_000, 10, 'spline')
+
+
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+@pytest.mark.parametrize('points', [7, 11, 13])
+def test_stated_error_is_never_below_the_truth_where_a_slope_jump_is_inside_an_interval(
+        interpolation, points):
+    # A dwell next to constant velocity: s has kinks at 90 and 180 deg; with 7, 11 or 13
+    # equidistant points neither is a knot, so the worst error sits at a kink inside an interval.
+    # Truth: the exact law and SciPy's interpolant on a dense grid plus the kinks themselves.
+    kinks = np.radians([90.0, 180.0])
+    jumps = program(('dwell', 0, 90, 0, 0), ('constant_velocity', 90, 180, 0, RISE),
+                    ('dwell', 180, 240, RISE, RISE), ('cycloidal', 240, 360, RISE, 0))
+    table = equidistant_table(jumps, points, interpolation)
+    assert not np.isclose(table.angle[:, None], kinks, rtol=0, atol=1e-9).any()
+    grid = np.sort(np.concatenate((DENSE, kinks)))
+    if interpolation == 'linear':
+        approximation = np.interp(grid, table.angle, table.position)
+    else:
+        approximation = CubicHermiteSpline(table.angle, table.position, table.slope)(grid)
+    truth = np.abs(approximation - jumps.evaluate(grid).s).max()
+    assert truth * (1.0 - 1e-12) <= table.max_error <= truth * (1.0 + 1e-6)

@@ -13,9 +13,11 @@ law s is found on every interval by dense sampling, refined by Newton steps on e
   stays within the tolerance, searched in rounds of CANDIDATES ends (the first end over the
   tolerance and the one before it bracket the next round), each checked as above.  Every boundary
   of the program's segments, where derivatives may jump, is a knot.  Greedy placement from a
-  fixed start gives the fewest knots whenever an interval within the tolerance implies that its
-  sub-intervals are too (true where s is convex or concave between the knots, as on a law's
-  rising and falling halves); it is not proven minimal in general.
+  fixed start is not the fewest knots in general; the table states the tolerance it meets.
+
+Every interval's error is also evaluated at the program's breaks inside it: where the slope
+jumps (a dwell next to constant velocity) the worst error sits at the kink, where e' changes sign
+without passing through zero.
 """
 from __future__ import annotations
 
@@ -97,17 +99,20 @@ def equidistant_table(program: MotionProgram, points: int,
     return _table(program, 360.0 * np.arange(points + 1) / points, interpolation, None)
 
 
-def tolerance_table(program: MotionProgram, tolerance: float,
-                    interpolation: str = 'linear') -> CamTable:
-    """Return the table of fewest knots (greedy) whose interpolation stays within tolerance."""
+def tolerance_table(program: MotionProgram, tolerance: float, interpolation: str = 'linear',
+                    *, unit: tuple[str, float] = ('m or rad', 1.0)) -> CamTable:
+    """Return a table of knots placed greedily whose interpolation stays within tolerance.
+
+    unit (name, factor from SI) is how error messages state the allowed range.
+    """
     _check_interpolation(interpolation)
     travel = stroke(program)
     low = MIN_RELATIVE_TOLERANCE * travel
     if not (isinstance(tolerance, (int, float)) and low <= tolerance <= travel):
+        name, factor = unit
         raise InvalidParameter('tolerance', tolerance,
-                               f'must be in [{low:.6g}, {travel:.6g}] (m, or rad for an '
-                               f'oscillating follower): from {MIN_RELATIVE_TOLERANCE:g} of '
-                               'the stroke to the stroke')
+                               f'must be in [{low * factor:.6g}, {travel * factor:.6g}] {name}: '
+                               f'from {MIN_RELATIVE_TOLERANCE:g} of the stroke to the stroke')
     cubic = interpolation == 'cubic'
     pieces = _piece_bounds(program)
     knots = [0.0]
@@ -227,4 +232,28 @@ def _errors(program: MotionProgram, start: FloatArray, end: FloatArray, cubic: b
         _, slope, curvature = error(t)
         step = np.divide(slope, curvature, out=np.zeros_like(slope), where=curvature != 0.0)
         t = np.clip(t - step / span, low, high)
-    return np.maximum(worst, np.abs(error(t)[0][:, 0]))
+    refined = np.maximum(worst, np.abs(error(t)[0][:, 0]))
+    return np.maximum(refined, _errors_at_breaks(program, start, end, c))
+
+
+def _errors_at_breaks(program: MotionProgram, start: FloatArray, end: FloatArray,
+                      c: FloatArray) -> FloatArray:
+    """Return the largest |s - p| at the program's breaks strictly inside each interval (or 0).
+
+    Where a slope jumps (a dwell next to constant velocity) the error peaks at the kink itself,
+    where e' changes sign without passing through 0, so no sampled peak's Newton step lands there.
+    """
+    breaks = np.unique(np.mod(program.breaks, TWO_PI))
+    breaks = np.concatenate((breaks, breaks + TWO_PI))  # intervals may end at 2 pi
+    first = np.searchsorted(breaks, start, side='right')
+    count = np.searchsorted(breaks, end, side='left') - first
+    result = np.zeros(start.size)
+    if not count.sum():
+        return result
+    interval = np.repeat(np.arange(start.size), count)
+    at = breaks[np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+                + np.repeat(first, count)]
+    span = end[interval] - start[interval]
+    value = _polynomial(c[:, interval, 0], (at - start[interval]) / span, span)[0]
+    np.maximum.at(result, interval, np.abs(program.evaluate(at).s - value))
+    return result
