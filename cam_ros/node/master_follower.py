@@ -22,7 +22,7 @@ from rclpy.guard_condition import GuardCondition
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
-from rclpy.qos import QoSProfile
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
@@ -32,11 +32,14 @@ from cam_ros.core.ecam.handover import Handover
 from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                       MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.node.qos_events import publisher, subscription_events
 from cam_ros.rclpy_gaps import wait_set
 from cam_ros.recording.intake import TakenByIntake
 
 #: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
-MASTER_QOS = QoSProfile(depth=1000)
+#: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
+#: and a reliable one alike; a reliable subscription would never hear the former.
+MASTER_QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
 COMMAND_QOS = QoSProfile(depth=10)
 DIAGNOSTICS_PERIOD_S = 1.0
 #: Parameters that wire the node to the graph: fixed once the node runs.
@@ -76,8 +79,9 @@ class MasterIntake:
     def __init__(self, node: Node, topic: str, callback: Callable[[JointState], None]):
         self._callback = callback
         self._stop = threading.Event()
-        self.subscription = node.create_subscription(JointState, topic, callback, MASTER_QOS,
-                                                     callback_group=TakenByIntake())
+        self.subscription = node.create_subscription(
+            JointState, topic, callback, MASTER_QOS, callback_group=TakenByIntake(),
+            event_callbacks=subscription_events(node, topic))
         self._wake = GuardCondition(None, None, context=node.context)
         self._wait_set = wait_set(node.context, 1, 1)
         self._node = node
@@ -134,11 +138,9 @@ class MasterFollower:
         self._last_handover = 'none'
         self._last_position = 0.0  # last commanded follower position
         self._overspeed_said = False
-        self._commands_pub = node.create_publisher(Float64MultiArray, '~/commands', COMMAND_QOS)
-        self._trajectory_pub = node.create_publisher(JointTrajectory, '~/joint_trajectory',
-                                                     COMMAND_QOS)
-        self._diagnostics_pub = node.create_publisher(DiagnosticArray, '/diagnostics',
-                                                      COMMAND_QOS)
+        self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
+        self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
+        self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
         self._intake = MasterIntake(node, self._config.topic, self._on_master)
         self._master_sub = self._intake.subscription
@@ -198,7 +200,7 @@ class MasterFollower:
                 f'dropped a master message: {bad.reason} ({tracker.dropped[bad.reason]} so far)',
                 throttle_duration_sec=5.0)
             return
-        if self._handover is not None and self._handover.due(state.position, state.step,
+        if self._handover is not None and self._handover.due(state.track, state.step,
                                                              state.omega):
             self._hand_over(state)
         self._publish(message, state)
@@ -213,7 +215,7 @@ class MasterFollower:
     def _publish(self, message: JointState, state: MasterState) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
         cam = self._cam
-        point = cam.setpoints(state.position, state.omega, state.alpha)
+        point = cam.setpoints(state.track, state.omega, state.alpha)
         position, velocity = float(point.position), float(point.velocity)
         value = position if self._config.interface == 'position' else velocity
         self._commands_pub.publish(Float64MultiArray(data=[value]))
@@ -225,7 +227,7 @@ class MasterFollower:
         if self._config.trajectory_horizon > 0.0:
             count = self._config.trajectory_points
             times = self._config.trajectory_horizon / count * np.arange(1, count + 1)
-            ahead = cam.ahead(state.position, state.omega, times)
+            ahead = cam.ahead(state.track, state.omega, times)
             self._trajectory_pub.publish(_trajectory(times, ahead.position, ahead.velocity,
                                                      ahead.acceleration))
 
@@ -233,9 +235,9 @@ class MasterFollower:
         """Let the pending design take over at this master sample; say what happened."""
         assert self._handover is not None
         old, new = self._handover.old, self._handover.new
-        step = float(new.setpoints(state.position).position - old.setpoints(state.position)
+        step = float(new.setpoints(state.track).position - old.setpoints(state.track)
                      .position)
-        angle = np.degrees(float(new.mapping.cam_angle(state.position)))
+        angle = np.degrees(float(new.mapping.cam_angle(state.track)))
         self._cam, self._handover = new, None
         self._last_handover = f'at cam angle {angle:.3f} deg, position command moved {step:.3g}'
         self._node.get_logger().info(f'design change applied {self._last_handover}')

@@ -36,6 +36,7 @@ from cam_ros.core.errors import one_line
 from cam_ros.node.master_follower import MasterFollower
 from cam_ros.node.joints import joint_coordinates
 from cam_ros.node.middleware import use_shipped_profile
+from cam_ros.node.qos_events import publisher
 from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
                                      ParameterSources, parse_command_line, plain, RECORDING_SWITCH,
                                      reload_parameters, ros_node_parameters, start_rclpy, USAGE)
@@ -94,12 +95,12 @@ class CamNode(Node):
         self.add_on_set_parameters_callback(self._validate_update)
         self.add_post_set_parameters_callback(self._apply_update)
 
-        self._profile_pub = self.create_publisher(JointTrajectory, '~/profile', LATCHED)
-        self._pressure_pub = self.create_publisher(Float64MultiArray, '~/pressure_angle', LATCHED)
-        self._markers_pub = self.create_publisher(MarkerArray, '~/markers', LATCHED)
-        self._joint_pub = self.create_publisher(JointState, '~/joint_states', STATE_QOS)
-        self._extras_pub = self.create_publisher(Vector3Stamped, '~/state_extras', STATE_QOS)
-        self._dynamics_pub = self.create_publisher(Float64MultiArray, '~/dynamics', LATCHED)
+        self._profile_pub = publisher(self, JointTrajectory, '~/profile', LATCHED)
+        self._pressure_pub = publisher(self, Float64MultiArray, '~/pressure_angle', LATCHED)
+        self._markers_pub = publisher(self, MarkerArray, '~/markers', LATCHED)
+        self._joint_pub = publisher(self, JointState, '~/joint_states', STATE_QOS)
+        self._extras_pub = publisher(self, Vector3Stamped, '~/state_extras', STATE_QOS)
+        self._dynamics_pub = publisher(self, Float64MultiArray, '~/dynamics', LATCHED)
         self._ecam = MasterFollower.attach(self, self.design, self._joint_pub,
                                            lambda: self._recording.recorder)
         self._start_ns = self.get_clock().now().nanoseconds

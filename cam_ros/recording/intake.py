@@ -8,6 +8,7 @@ import time
 from typing import Any, Optional
 
 from rclpy.callback_groups import CallbackGroup
+from rclpy.event_handler import EventHandler
 from rclpy.exceptions import InvalidHandle
 from rclpy.guard_condition import GuardCondition
 from rclpy.node import Node
@@ -26,15 +27,19 @@ MAX_BATCH = 1000
 
 
 class TakenByIntake(CallbackGroup):
-    """A callback group that no executor runs: only the intake takes its messages."""
+    """A callback group whose subscriptions no executor runs: only the intake takes them.
+
+    Their QoS event handlers (an incompatible publisher, lost messages) still run in the node's
+    executor, so rclpy's warnings about them reach the log.
+    """
 
     def can_execute(self, entity: object) -> bool:
-        """Return False, which keeps these subscriptions out of every executor's wait set."""
-        return False
+        """Return True for event handlers only: the subscriptions stay out of every wait set."""
+        return isinstance(entity, EventHandler)
 
     def beginning_execution(self, entity: object) -> bool:
-        """Refuse to run a callback."""
-        return False
+        """Let an event handler run; refuse a subscription's callback."""
+        return isinstance(entity, EventHandler)
 
     def ending_execution(self, entity: object) -> None:
         """Do nothing: nothing ever began."""

@@ -222,3 +222,46 @@ def test_tracker_flags_overspeed_while_it_lasts():
     unlimited = MasterTracker(SECOND)
     unlimited.accept(0, 0.0, 1e9, 0)
     assert not unlimited.overspeed
+
+
+def master_commands(tracker, cam, stamps, positions):
+    """Return the position setpoints a stream of master samples gives through a tracker."""
+    return np.array([float(cam.setpoints(tracker.accept(stamp, q, None, stamp).track).position)
+                     for stamp, q in zip(stamps, positions)])
+
+
+@pytest.mark.parametrize('scaling', [0.5, 2.0, 3.0])
+@pytest.mark.parametrize('omega', [9.0, -7.0])
+def test_a_wrapping_encoder_gives_the_commands_of_a_multi_turn_master(scaling, omega):
+    # A master over five turns at 250 Hz, as a multi-turn position and as an encoder in [0, 2 pi)
+    # that starts at the same physical position: every command equals the MC_CamIn formula of
+    # the multi-turn position (written out above), so the wrapping encoder no longer jumps.
+    cam = ElectronicCam(DESIGN.program, CamMapping(master_offset=0.3, master_scaling=scaling))
+    stamps = (np.arange(int(5 * 2 * math.pi / abs(omega) * 250)) * 4_000_000).tolist()
+    multi = (1.0 + omega * np.asarray(stamps) * 1e-9).tolist()
+    wrapped = np.mod(multi, 2 * math.pi).tolist()
+    expected = []
+    for q in multi:
+        theta = math.fmod((q - 0.3) / scaling, 2 * math.pi)
+        expected.append(float(DESIGN.program.evaluate(theta + (2 * math.pi if theta < 0 else 0))
+                              .s))
+    from_multi = master_commands(MasterTracker(SECOND), cam, stamps, multi)
+    from_wrapped = master_commands(MasterTracker(SECOND), cam, stamps, wrapped)
+    np.testing.assert_allclose(from_multi, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(from_wrapped, expected, rtol=0, atol=1e-9)
+    # no step at a wrap: the largest change between samples is the multi-turn master's
+    largest = np.abs(np.diff(from_multi)).max()
+    assert np.abs(np.diff(from_wrapped)).max() == pytest.approx(largest, abs=1e-9)
+
+
+def test_the_track_keeps_its_turns_over_a_master_loss():
+    tracker = MasterTracker(SECOND // 2)
+    for k, q in enumerate([6.2, 0.05, 0.1]):  # wraps once: track 2 pi + 0.05, 2 pi + 0.1
+        tracker.accept(k * 1_000_000, q, None, k * 1_000_000)
+    assert tracker.last.track == pytest.approx(2 * math.pi + 0.1, abs=1e-15)
+    tracker.check(10 * SECOND)
+    back = tracker.accept(10 * SECOND, 0.2, None, 10 * SECOND)
+    assert back.track == pytest.approx(2 * math.pi + 0.2, abs=1e-15)
+    multi_turn = MasterTracker(SECOND // 2)
+    for k, q in enumerate([100.0, 100.01, 100.02]):
+        assert multi_turn.accept(k, q, None, k).track == q  # exactly its own position

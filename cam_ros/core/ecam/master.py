@@ -169,13 +169,19 @@ def read_master(joint: str, names: Sequence[str], position: Sequence[float],
 
 
 class MasterState(NamedTuple):
-    """One accepted master sample: stamp (ns), position (rad), speed and acceleration."""
+    """One accepted master sample: stamp (ns), position (rad), speed and acceleration.
+
+    position is the master's as sent; track is the same position followed continuously (the
+    first sample's, then every unwrapped step added), which the cam angle is taken from, so an
+    encoder wrapping at 2 pi gives the commands of a multi-turn master for any master.scaling.
+    """
 
     stamp_ns: int
     position: float
     omega: float
     alpha: float
     step: float  # unwrapped travel since the previous sample (rad), 0 for the first
+    track: float  # continuous master position (rad): position + a whole number of turns
 
 
 class MasterTracker:
@@ -205,7 +211,8 @@ class MasterTracker:
         if self.last is not None and stamp_ns <= self.last.stamp_ns:
             raise BadMaster(BACKWARDS)
         history = self._history[-2:] if self.status != LOST else []
-        state = estimate(history, stamp_ns, position, velocity)
+        turns = 0.0 if self.last is None else self.last.track - self.last.position
+        state = estimate(history, stamp_ns, position, velocity, turns)
         self._history = [*history, state]
         self.last, self._received_ns, self.status = state, received_ns, OK
         self.accepted += 1
@@ -231,7 +238,7 @@ class MasterTracker:
 
 
 def estimate(history: Sequence[MasterState], stamp_ns: int, position: float,
-             velocity: float | None) -> MasterState:
+             velocity: float | None, turns: float = 0.0) -> MasterState:
     """
     Return the state at a new sample from up to two previous ones (oldest first).
 
@@ -239,16 +246,22 @@ def estimate(history: Sequence[MasterState], stamp_ns: int, position: float,
     three positions has alpha = 2 (d1/h1 - d2/h2) / (h1 + h2) and, at the newest sample,
     omega = d1/h1 + alpha h1/2. A given velocity is taken as omega, and alpha = (omega -
     omega_before)/h1. Two samples give the mean speed, no acceleration; one gives no speed.
+    Without history (the first sample, or the first after a loss) the track is position + turns,
+    the whole turns the track had gained over the position before (0 for a multi-turn master).
     """
     if not history:
-        return MasterState(stamp_ns, position, velocity or 0.0, 0.0, 0.0)
+        return MasterState(stamp_ns, position, velocity or 0.0, 0.0, 0.0, position + turns)
     previous = history[-1]
     h1 = (stamp_ns - previous.stamp_ns) * 1e-9
     d1 = math.remainder(position - previous.position, TWO_PI)
+    # The representative of position (mod 2 pi) nearest the previous track plus the step: a
+    # multi-turn master's track is its position exactly, a wrapping one's is that plus k turns.
+    track = position + TWO_PI * round((previous.track + d1 - position) / TWO_PI)
     if velocity is not None:
-        return MasterState(stamp_ns, position, velocity, (velocity - previous.omega) / h1, d1)
+        return MasterState(stamp_ns, position, velocity, (velocity - previous.omega) / h1, d1,
+                           track)
     if len(history) < 2:
-        return MasterState(stamp_ns, position, d1 / h1, 0.0, d1)
+        return MasterState(stamp_ns, position, d1 / h1, 0.0, d1, track)
     h2 = (previous.stamp_ns - history[-2].stamp_ns) * 1e-9
     alpha = 2.0 * (d1 / h1 - previous.step / h2) / (h1 + h2)
-    return MasterState(stamp_ns, position, d1 / h1 + alpha * h1 / 2.0, alpha, d1)
+    return MasterState(stamp_ns, position, d1 / h1 + alpha * h1 / 2.0, alpha, d1, track)

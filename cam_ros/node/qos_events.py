@@ -1,0 +1,33 @@
+"""Warn, naming the topic, when a peer's QoS can never match one of the node's endpoints.
+
+rclpy's own default warning names the topic as written ('~/master'), and none is heard for a
+subscription whose callbacks no executor runs; these name the resolved topic and the policy.
+"""
+from typing import Any, Callable
+
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+from rclpy.node import Node
+from rclpy.publisher import Publisher
+from rclpy.qos import qos_policy_name_from_kind, QoSProfile
+
+
+def _warning(node: Node, topic: str, peer: str) -> Callable[[Any], None]:
+    resolved = node.resolve_topic_name(topic)
+
+    def warn(event: Any) -> None:
+        policy = qos_policy_name_from_kind(event.last_policy_kind)
+        node.get_logger().warning(
+            f'incompatible QoS on {resolved}: a {peer} whose {policy} policy cannot match this '
+            f'node\'s ({event.total_count} so far); no messages pass between them')
+    return warn
+
+
+def publisher(node: Node, msg_type: Any, topic: str, qos: QoSProfile) -> Publisher:
+    """Create a publisher of the node whose incompatible subscriptions are warned about."""
+    return node.create_publisher(msg_type, topic, qos, event_callbacks=PublisherEventCallbacks(
+        incompatible_qos=_warning(node, topic, 'subscription')))
+
+
+def subscription_events(node: Node, topic: str) -> SubscriptionEventCallbacks:
+    """Return event callbacks for a subscription of the node on topic."""
+    return SubscriptionEventCallbacks(incompatible_qos=_warning(node, topic, 'publisher'))
