@@ -293,8 +293,32 @@ def build_law(motion: MotionConfig, index: int, written: Mapping[str, Any]) -> M
                                    f'needs 3 entries b, c, d for the scca law of segment {index}')
         params = dict(zip('bcd', motion.scca_fractions))
     elif name == 'table':
-        params = {'u': motion.table_u, 'y': motion.table_y}
+        params = dict(zip('uy', table_points(motion, index)))
     return make_law(name, **params)
+
+
+def table_points(motion: MotionConfig, index: int) -> tuple[tuple[float, ...], ...]:
+    """Return the (u, y) points of the table segment index: its share of table_u/table_y.
+
+    One table segment takes them all; with more, motion.table_counts says how many each takes,
+    in segment order, so no two segments ever share a shape by accident.
+    """
+    tables = [number for number, law in enumerate(motion.laws) if law == 'table']
+    counts, total = motion.table_counts, len(motion.table_u)
+    if not counts and len(tables) == 1:
+        return motion.table_u, motion.table_y
+    if len(counts) != len(tables):
+        raise InvalidParameter('motion.table_counts', list(counts),
+                               f'needs one entry per table segment ({len(tables)}: segments '
+                               f'{", ".join(map(str, tables))}) giving how many of the '
+                               f'motion.table_u/table_y points each takes, in segment order')
+    if any(count < 2 for count in counts) or sum(counts) != total:
+        raise InvalidParameter('motion.table_counts', list(counts),
+                               f'must be counts of at least 2 adding up to the {total} '
+                               f'motion.table_u points')
+    first = sum(counts[:tables.index(index)])
+    end = first + counts[tables.index(index)]
+    return motion.table_u[first:end], motion.table_y[first:end]
 
 
 def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionProgram:

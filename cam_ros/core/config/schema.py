@@ -119,6 +119,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        'segments'),
     _p('motion.table_u', 'double_array', [], 'Normalised abscissae 0..1 of the table law'),
     _p('motion.table_y', 'double_array', [], 'Normalised rise 0..1 of the table law'),
+    _p('motion.table_counts', 'integer_array', [], 'How many of the table_u/table_y points '
+       'belong to each table segment, in segment order (needed with two or more)'),
     _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
        unit='deg', minimum=1.0, maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
@@ -224,6 +226,7 @@ class MotionConfig:
     scca_fractions: tuple[float, ...]
     table_u: tuple[float, ...]
     table_y: tuple[float, ...]
+    table_counts: tuple[int, ...]
 
 
 @dataclass(frozen=True)
@@ -343,6 +346,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         scca_fractions=values['motion.scca_fractions'],
         table_u=values['motion.table_u'],
         table_y=values['motion.table_y'],
+        table_counts=values['motion.table_counts'],
     )
     _check_parallel(values, ('motion.laws', 'motion.start_deg', 'motion.end_deg',
                              'motion.start_position', 'motion.end_position'))
