@@ -188,7 +188,10 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
                             f'{number(d.camshaft_torque_rms)} N m'),
         ('', f'peak power {number(d.power_max)} W; net work per revolution '
              f'{number(d.cycle_work)} J (damping and friction)'),
-        ('Contact stress', f'max {number(d.contact_stress_max / 1e6)} MPa at '
+        ('Contact stress', f'undefined (undercut) from '
+                           f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg; {limit}'
+                           if math.isnan(d.contact_stress_max) else
+                           f'max {number(d.contact_stress_max / 1e6)} MPa at '
                            f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg, half-width '
                            f'{number(d.contact_half_width * 1e3)} mm; {limit}'),
     ]

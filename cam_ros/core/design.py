@@ -171,9 +171,13 @@ class CamDesign:
                          f'{cam_degrees(end, 1, end=True):.1f} deg at '
                          f'{self.config.cam_speed:.6g} rad/s')
         if dynamics.contact_stress_ok is False:
-            notes.append(f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
-                         f'{cam_degrees(dynamics.contact_stress_max_at, 1):.1f} deg, over the '
-                         f'allowable {cast(float, dynamics.contact_stress_limit) / 1e6:.6g} MPa')
+            at = cam_degrees(dynamics.contact_stress_max_at, 1)
+            allowable = cast(float, dynamics.contact_stress_limit) / 1e6
+            notes.append(f'contact stress is undefined (undercut) from {at:.1f} deg, so not '
+                         f'within the allowable {allowable:.6g} MPa'
+                         if math.isnan(dynamics.contact_stress_max) else
+                         f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
+                         f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
         return notes
 
     def summary(self) -> str:

@@ -30,7 +30,8 @@ class DynamicsReport:
     the contact force reaches zero somewhere (None if never, 0 if already at rest).
     camshaft_torque_max is the largest |T|, power_max that times the cam speed; cycle_work is
     the net work per revolution (damping and friction; 0 for a conservative train).
-    contact_stress_ok is None when no allowable is configured.
+    contact_stress_ok is None when no allowable is configured. contact_stress_max is NaN (at the
+    first such angle, half-width NaN) where the surface is undercut: no Hertz contact exists.
     """
 
     contact_force_min: float
@@ -58,10 +59,13 @@ class DynamicsReport:
 
     @property
     def contact_stress_ok(self) -> Optional[bool]:
-        """Return whether the peak contact pressure is within the allowable (None: no limit)."""
+        """Return whether the peak contact pressure is within the allowable (None: no limit).
+
+        An undefined stress (NaN: the surface is undercut, no Hertz contact) is not within it.
+        """
         if self.contact_stress_limit is None:
             return None
-        return self.contact_stress_max <= self.contact_stress_limit
+        return bool(self.contact_stress_max <= self.contact_stress_limit)
 
     @property
     def ok(self) -> bool:
@@ -105,11 +109,8 @@ def dynamics_report(model: FollowerDynamics, program: MotionProgram,
         return refine_extremum(lambda angles: getattr(values(angles), name), theta, grid, kind,
                                breaks=breaks)
 
-    def ranked(stress: Array) -> Array:  # NaN (undercut, no Hertz contact) ranks highest
-        return np.nan_to_num(stress, nan=math.inf)
-
     def stress(angles: Array) -> Array:
-        return ranked(values(angles).contact_stress)
+        return values(angles).contact_stress
 
     dense = evaluate(theta)  # the one dense pass; refinement evaluates only brackets
     grid = cast(DynamicsValues, dense.dynamics)
@@ -119,8 +120,12 @@ def dynamics_report(model: FollowerDynamics, program: MotionProgram,
     torque_high = extreme('camshaft_torque', 'max', grid.camshaft_torque)
     torque_low = extreme('camshaft_torque', 'min', grid.camshaft_torque)
     torque, torque_at = max(torque_high, (-torque_low[0], torque_low[1]))
-    stress_max, stress_at = refine_extremum(stress, theta, ranked(grid.contact_stress), 'max',
-                                            breaks=breaks)
+    undefined = np.isnan(grid.contact_stress)  # undercut: no Hertz contact there
+    if undefined.any():
+        stress_max, stress_at = math.nan, float(theta[np.argmax(undefined)])
+    else:
+        stress_max, stress_at = refine_extremum(stress, theta, grid.contact_stress, 'max',
+                                                breaks=breaks)
 
     def inverse(speeds: Array) -> Array:  # 1 / jump speed: finite where the speed is inf
         with np.errstate(divide='ignore'):
