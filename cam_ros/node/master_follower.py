@@ -9,6 +9,7 @@ once a second. Every number comes from cam_ros.core.ecam.master and cam_ros.core
 """
 from __future__ import annotations
 
+from contextlib import ExitStack
 import threading
 from typing import Any, Callable
 
@@ -34,7 +35,7 @@ from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConf
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.node.qos_events import publisher, subscription_events
 from cam_ros.rclpy_gaps import wait_set
-from cam_ros.recording.intake import TakenByIntake
+from cam_ros.recording.intake import add_events, serve_events, TakenByIntake
 
 #: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
 #: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
@@ -82,8 +83,9 @@ class MasterIntake:
         self.subscription = node.create_subscription(
             JointState, topic, callback, MASTER_QOS, callback_group=TakenByIntake(),
             event_callbacks=subscription_events(node, topic))
+        self._events = list(self.subscription.event_handlers)
         self._wake = GuardCondition(None, None, context=node.context)
-        self._wait_set = wait_set(node.context, 1, 1)
+        self._wait_set = wait_set(node.context, 1, 1, len(self._events))
         self._node = node
         self._thread = threading.Thread(target=self._run, name='master', daemon=True)
         self._thread.start()
@@ -92,7 +94,9 @@ class MasterIntake:
         subscription, wait_set = self.subscription, self._wait_set
         try:
             while not self._stop.is_set():
-                with subscription.handle, self._wake.handle:
+                with ExitStack() as stack:
+                    stack.enter_context(subscription.handle)
+                    stack.enter_context(self._wake.handle)
                     taken = subscription.handle.take_message(JointState, False)
                     if taken is not None:
                         self._callback(taken[0])
@@ -100,7 +104,9 @@ class MasterIntake:
                     wait_set.clear_entities()
                     wait_set.add_subscription(subscription.handle)
                     wait_set.add_guard_condition(self._wake.handle)
+                    add_events(stack, wait_set, self._events)
                     wait_set.wait(-1)
+                    serve_events(wait_set, self._events)
         except InvalidHandle:
             pass  # the node went away under the thread
 

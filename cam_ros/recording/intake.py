@@ -27,19 +27,20 @@ MAX_BATCH = 1000
 
 
 class TakenByIntake(CallbackGroup):
-    """A callback group whose subscriptions no executor runs: only the intake takes them.
+    """A callback group that no executor runs: only an intake thread serves its subscriptions.
 
-    Their QoS event handlers (an incompatible publisher, lost messages) still run in the node's
-    executor, so rclpy's warnings about them reach the log.
+    Their QoS event handlers stay out of executors too: an executor waiting on a subscription's
+    events is woken by its data as well (one DDS status condition), spins while the intake has
+    not taken it, and steals the intake's wake-up. The intake serves them (serve_events).
     """
 
     def can_execute(self, entity: object) -> bool:
-        """Return True for event handlers only: the subscriptions stay out of every wait set."""
-        return isinstance(entity, EventHandler)
+        """Return False, which keeps these subscriptions and their events out of executors."""
+        return False
 
     def beginning_execution(self, entity: object) -> bool:
-        """Let an event handler run; refuse a subscription's callback."""
-        return isinstance(entity, EventHandler)
+        """Refuse to run a callback."""
+        return False
 
     def ending_execution(self, entity: object) -> None:
         """Do nothing: nothing ever began."""
@@ -73,7 +74,10 @@ class RawIntake:
             for topic, msg_type, qos in topics:
                 self._subscriptions.append(node.create_subscription(
                     msg_type, topic, _never_called, qos, callback_group=group, raw=True))
-            self._wait_set = wait_set(node.context, len(self._subscriptions), 1)
+            self._events = [handler for subscription in self._subscriptions
+                            for handler in subscription.event_handlers]
+            self._wait_set = wait_set(node.context, len(self._subscriptions), 1,
+                                      len(self._events))
         except BaseException:
             self._release()
             raise
@@ -144,7 +148,9 @@ class RawIntake:
                 wait_set.add_subscription(subscription.handle)
             stack.enter_context(self._wake.handle)
             wait_set.add_guard_condition(self._wake.handle)
+            add_events(stack, wait_set, self._events)
             wait_set.wait(-1 if math.isinf(timeout) else max(0, round(timeout * 1e9)))
+            serve_events(wait_set, self._events)
 
     def _release(self) -> None:
         """Destroy the subscriptions and the wake-up condition (once)."""
@@ -152,6 +158,22 @@ class RawIntake:
         for subscription in subscriptions:
             self._node.destroy_subscription(subscription)
         self._wake.destroy()
+
+
+def add_events(stack: ExitStack, wait_set: Any, handlers: Sequence[EventHandler]) -> None:
+    """Add QoS event handlers to a wait set, held in use until the stack closes."""
+    for handler in handlers:
+        stack.enter_context(handler)
+        handler.add_to_wait_set(wait_set)
+
+
+def serve_events(wait_set: Any, handlers: Sequence[EventHandler]) -> None:
+    """Run the callback of every handler whose event is ready (rclpy's warnings, for one)."""
+    for handler in handlers:
+        if handler.is_ready(wait_set):
+            event = handler.take_data()
+            if event is not None:
+                handler.callback(event)
 
 
 def _never_called(data: bytes) -> None:

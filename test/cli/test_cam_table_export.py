@@ -217,8 +217,8 @@ def mm_config(directory):
 
 
 @pytest.mark.parametrize('tolerance', ['0.01', '0.01mm', '10um', '1e-5m', '0.001cm'])
-def test_a_bare_tolerance_is_in_the_tables_unit_and_a_suffix_is_its_own(tmp_path, capsys,
-                                                                         tolerance):
+def test_a_bare_tolerance_is_in_the_tables_unit_and_a_suffix_is_its_own(
+        tmp_path, capsys, tolerance):
     config = mm_config(tmp_path)
     target = tmp_path / 'cam.csv'
     run = run_cli(capsys, 'export', config, '-o', target, '--cam-table', '--tolerance', tolerance)

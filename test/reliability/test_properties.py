@@ -119,9 +119,12 @@ def programs(draw, unit_range: tuple[float, float]) -> Program:
                       positions[:-1], positions[1:])
     if 'scca' in laws:
         program.extra['motion.scca_fractions'] = list(draw(scca_fractions()))
-    if 'table' in laws:
-        u, y = draw(table_points())
-        program.extra.update({'motion.table_u': u, 'motion.table_y': y})
+    tables = [draw(table_points()) for law in laws if law == 'table']
+    if tables:
+        program.extra.update({'motion.table_u': [x for u, _ in tables for x in u],
+                              'motion.table_y': [x for _, y in tables for x in y]})
+    if len(tables) > 1:
+        program.extra['motion.table_counts'] = [len(u) for u, _ in tables]
     vias = [index for index, law in enumerate(laws) if law in ('via_point', 'polynomial')]
     if vias:
         fractions = [(draw(st.floats(0.15, 0.85)), draw(st.floats(0.15, 0.85))) for _ in vias]
@@ -228,7 +231,12 @@ def law_of(program: Program, index: int):
         b, c, d = extra['motion.scca_fractions']
         return make_law('scca', b=b, c=c, d=d)
     if name == 'table':
-        return make_law('table', u=extra['motion.table_u'], y=extra['motion.table_y'])
+        slot = program.laws[:index].count('table')
+        counts = extra.get('motion.table_counts', [len(extra['motion.table_u'])])
+        first = sum(counts[:slot])
+        points = slice(first, first + counts[slot])
+        return make_law('table', u=extra['motion.table_u'][points],
+                        y=extra['motion.table_y'][points])
     if name in ('via_point', 'polynomial'):
         slot = extra['motion.via_segment'].index(index)
         span = program.end_deg[index] - program.start_deg[index]

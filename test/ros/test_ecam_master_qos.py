@@ -1,4 +1,4 @@
-"""cam_node hears every master QoS, warns about incompatible peers, and follows wrapping encoders."""
+"""cam_node hears any master QoS, warns about incompatible peers and follows wrapping encoders."""
 from __future__ import annotations
 
 import math
@@ -47,8 +47,8 @@ def test_an_incompatible_subscriber_gets_a_warning_naming_the_topic(start_cam_no
 
 
 @pytest.mark.parametrize('scaling', [0.5, 2.0, 3.0])
-def test_a_wrapping_encoder_commands_what_a_multi_turn_master_does(start_cam_node, executor,
-                                                                    scaling):
+def test_a_wrapping_encoder_commands_what_a_multi_turn_master_does(
+        start_cam_node, executor, scaling):
     process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, '-p', f'master.scaling:={scaling}')
     design = ecam_design(DEFAULT, **{'master.scaling': scaling})
     link = MasterLink(executor)
