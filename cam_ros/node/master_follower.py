@@ -177,8 +177,9 @@ class MasterFollower:
                 self._cam, self._handover = new, None
                 self._last_handover = 'applied at once (master not moving)'
                 return
-            self._handover = handover = Handover(self._cam, new)
-        self._node.get_logger().info(f'design change pending: {handover.describe()}')
+            self._handover = Handover(self._cam, new)
+            # Said under the lock: the master thread cannot apply it (and say so) before.
+            self._node.get_logger().info(f'design change pending: {self._handover.describe()}')
 
     def stop(self) -> None:
         """Stop taking master messages (before the node is destroyed)."""

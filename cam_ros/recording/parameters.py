@@ -12,7 +12,7 @@ from typing import Any
 from rclpy.parameter import parameter_value_to_python
 import yaml
 
-from cam_ros.core.config.schema import flatten
+from cam_ros.core.config.schema import flatten, SPECS
 from cam_ros.recording.reader import Recording
 
 #: The params file the node was started with, verbatim.
@@ -96,7 +96,9 @@ def parameter_changes(recording: Recording) -> list[ParameterChange]:
     Return every parameter event recorded, one row per parameter, in recording order.
 
     Old values come from the attached parameters in force and from earlier events; a change
-    whose old value equals the new one (e.g. the unchanged rest of a reload) is left out.
+    whose old value equals the new one (e.g. the unchanged rest of a reload) is left out. A cam
+    node's recording lists cam nodes only: the recorded node and any that sets cam parameters,
+    not the helper nodes of the CLI (whose only parameters are ROS's own, such as use_sim_time).
     """
     if PARAMETER_EVENTS_TOPIC not in recording.topics:
         return []
@@ -116,4 +118,8 @@ def parameter_changes(recording: Recording) -> list[ParameterChange]:
                 values[parameter.name] = new
                 changes.append(ParameterChange(recorded.log_time_ns, event.node, parameter.name,
                                                kind, old, new))
-    return changes
+    recorded_node = recording.metadata.get('cam_ros', {}).get(NODE_KEY)
+    if not recorded_node:
+        return changes
+    cam_nodes = {recorded_node} | {change.node for change in changes if change.name in SPECS}
+    return [change for change in changes if change.node in cam_nodes]

@@ -1,10 +1,14 @@
 """The parameters a recording carries: params file in force, parameter events as changes."""
 
 import pytest
+from rcl_interfaces.msg import Parameter, ParameterEvent, ParameterType, ParameterValue
 
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
-from cam_ros.recording import open_recording, parameter_changes, params_file
-from cam_ros.recording.parameters import initial_parameters
+from cam_ros.recording import (open_recording, PARAMETER_EVENTS, parameter_changes, params_file,
+                               Recorder)
+from cam_ros.recording.parameters import initial_parameters, PARAMETERS_ATTACHMENT
+
+from .recording_support import wait_until
 
 # A design whose numbers have no short decimal form, in mm, with a via point.
 VALUES = {
@@ -50,3 +54,37 @@ def test_parameter_events_become_changes(reference):
     recording = open_recording(reference.path)
     assert recording.start_ns <= change.time_ns <= recording.end_ns
     assert change.text() == f'{reference.parameter_name}: ? -> 0.02'
+
+
+def event(node: str, kind: str, name: str, value: object) -> ParameterEvent:
+    """Build a parameter event of one double or bool parameter."""
+    if isinstance(value, bool):
+        typed = ParameterValue(type=ParameterType.PARAMETER_BOOL, bool_value=value)
+    else:
+        typed = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=float(value))
+    return ParameterEvent(node=node, **{f'{kind}_parameters': [Parameter(name=name,
+                                                                          value=typed)]})
+
+
+def test_only_cam_nodes_changes_are_listed(ros, tmp_path):
+    """The CLI's helper nodes announce ROS's own parameters: no change of a cam node."""
+    path = tmp_path / 'cam.mcap'
+    node = ros.node('fake_cam_recorder')
+    try:
+        publisher = node.create_publisher(ParameterEvent, PARAMETER_EVENTS.name,
+                                          PARAMETER_EVENTS.qos)
+        events = [event('/cam_ros_param_42', 'new', 'use_sim_time', False),
+                  event('/cam_ros_param_42', 'new', 'start_type_description_service', True),
+                  event('/cam', 'changed', 'follower.offset', 0.5),
+                  event('/other_cam', 'changed', 'follower.base_radius', 40.0)]
+        with Recorder(node, path, [PARAMETER_EVENTS], description={'node': '/cam'},
+                      attachments={PARAMETERS_ATTACHMENT: params_file(VALUES)}) as recorder:
+            assert wait_until(lambda: publisher.get_subscription_count() >= 1)
+            for message in events:
+                publisher.publish(message)
+            assert wait_until(lambda: recorder.message_count >= len(events))
+    finally:
+        ros.drop(node)
+    changes = [(c.node, c.name, c.old, c.new) for c in parameter_changes(open_recording(path))]
+    assert changes == [('/cam', 'follower.offset', -1e-05, 0.5),
+                       ('/other_cam', 'follower.base_radius', None, 40.0)]
