@@ -235,12 +235,16 @@ def format_report(report: DesignReport, config: str) -> str:
                                    f'face: at least {number(high - low)} m long'))
     estimate = report.quick_estimate
     if estimate is not None:
-        rows.append(('Quick estimate', f'seed 002, steepest rise (segment {estimate.segment}), '
-                                       'no offset:'))
-        rows.append(('', f'R = {number(estimate.estimate.mean_radius)} m, base radius '
-                         f'{number(estimate.base_radius)} m, size index R/h = '
-                         f'{estimate.estimate.size_index:.3g}'
-                         + (' (big cam)' if estimate.estimate.big_cam else '')))
+        rows.append(('Quick estimate', f'from the steepest rise (segment {estimate.segment}) at '
+                                       'the pressure-angle limit, without offset:'))
+        if estimate.base_radius is None:
+            rows.append(('', 'does not apply: this limit needs no base radius at mid-rise (the '
+                             'smallest base radius above is exact)'))
+        else:
+            rows.append(('', f'base radius {number(estimate.base_radius)} m (roller centre '
+                             f'{number(estimate.estimate.mean_radius)} m from the cam centre at '
+                             f'mid-rise, {estimate.estimate.size_index:.3g} times the rise'
+                             + (': a large cam)' if estimate.estimate.big_cam else ')')))
     rows += _dynamics_rows(report)
     width = max(len(label) for label, _ in rows) + 2
     lines = [f'Cam design report: {config}', '']

@@ -25,12 +25,14 @@ from .geometry.sizing import BaseRadiusEstimate, estimate_base_radius, size_base
 class QuickEstimate:
     """Seed 002's base-radius estimate from the steepest rise, without offset (m).
 
-    base_radius is the estimated prime radius minus the roller radius.
+    base_radius is the estimated prime radius minus the roller radius, None when that is not
+    positive: the pressure-angle limit then needs no base radius at mid-rise (the estimate does
+    not apply; the exact sizing says what governs).
     """
 
     segment: int
     estimate: BaseRadiusEstimate
-    base_radius: float
+    base_radius: Optional[float]
 
 
 @dataclass(frozen=True)
@@ -86,8 +88,8 @@ def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
     estimate = estimate_base_radius(steepest.s_end - steepest.s_start,
                                     steepest.end - steepest.start, steepest.cv,
                                     design.config.pressure_angle_limit)
-    return QuickEstimate(steepest.index, estimate,
-                         estimate.prime_radius - follower.roller_radius)
+    base_radius = estimate.prime_radius - follower.roller_radius
+    return QuickEstimate(steepest.index, estimate, base_radius if base_radius > 0.0 else None)
 
 
 def design_report(design: CamDesign) -> DesignReport:

@@ -168,6 +168,21 @@ def test_quick_estimate_follows_seed_002(default_report):
     assert estimate['big_cam'] is (mean / RISE > 5)
 
 
+def test_a_quick_estimate_never_prints_a_negative_radius(tmp_path, capsys):
+    # A lax limit: R = Cv h / (beta tan 60 deg) = 1.47 cm is under h/2 + roller = 2 cm.
+    config = edited(tmp_path, 'lax', limits__pressure_angle_deg=60.0)
+    code, data = report_json(capsys, config)
+    mean = 2 * RISE / (RISE_SPAN * math.tan(math.radians(60.0)))
+    assert mean - RISE / 2 - ROLLER_RADIUS < 0.0
+    assert data['quick_estimate']['base_radius'] is None
+    assert data['quick_estimate']['mean_radius'] == pytest.approx(mean)
+    text = run_cli(capsys, 'report', config).out
+    [line] = [line for line in text.splitlines() if 'does not apply' in line]
+    assert 'needs no base radius' in line
+    estimate = text[text.index('Quick estimate'):text.index('Segments')]
+    assert ' -0.' not in estimate and 'seed 002' not in estimate
+
+
 def test_text_report_names_the_verdict_and_the_numbers(capsys):
     run = run_cli(capsys, 'report', DEFAULT_CONFIG)
     assert run.code == 0 and run.err == ''
@@ -175,7 +190,9 @@ def test_text_report_names_the_verdict_and_the_numbers(capsys):
     for fragment in ('translating roller', 'clockwise at 6.28319 rad/s (60 rpm)',
                      'limit |pressure angle| <= 30 deg: ok', 'cycloidal', 'simple_harmonic',
                      'Verdict: meets its limits', 'Undercut             none',
-                     'smallest meeting the limits: 0.03396'):
+                     'smallest meeting the limits: 0.03396',
+                     'from the steepest rise (segment 1) at the pressure-angle limit',
+                     'base radius 0.0241063 m'):
         assert fragment in text, fragment
 
 
