@@ -34,6 +34,7 @@ from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from cam_ros.core.config.schema import SPECS
+from cam_ros.core.errors import similar_names
 
 #: Replies kept by the client's reader until taken; see the module docstring and the README.
 REPLY_DEPTH = 1000
@@ -42,12 +43,26 @@ CLIENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=REPLY_DEPTH,
 #: Angles per call: the node's default output.max_batch.
 CHUNK_SIZE = SPECS['output.max_batch'].default
 SPIN_SLICE_S = 0.05  # spin_once slice when the client spins the node itself
+SIMILAR_NAMES = 5  # most similar names an error lists
 #: The per-angle arrays of an answer (kinematics, and dynamics when the design has them).
 FIELDS = tuple(name for name, kind in EvaluateCam.Response.get_fields_and_field_types().items()
                if kind == 'sequence<double>')
 CamResult = make_dataclass('CamResult', [('angles', np.ndarray)]
                            + [(name, np.ndarray) for name in FIELDS], frozen=True)
 CamResult.__doc__ = 'Evaluated cam angles (rad) and one SI array per EvaluateCam response field.'
+
+
+def missing(node: Node, kind: str, name: str) -> str:
+    """Explain a service or topic the graph lacks: the domain searched, similar names it has.
+
+    kind is 'service' or 'topic'; the result starts with a space, to follow the error text.
+    """
+    listed = (node.get_service_names_and_types() if kind == 'service'
+              else node.get_topic_names_and_types())
+    similar = similar_names(name, (found for found, _ in listed), SIMILAR_NAMES)
+    domain = node.context.get_domain_id()
+    return (f' (ROS_DOMAIN_ID={domain}; similar {kind}s available: '
+            f'{", ".join(similar) or "none discovered yet"})')
 
 
 class CamClientError(RuntimeError):
@@ -107,9 +122,12 @@ class CamClient:
             if not response.success:
                 raise CamClientError(f'{self.service} refused: {response.message}')
             return response
-        problem = 'did not answer' if self.client.service_is_ready() else 'is not available'
+        ready = self.client.service_is_ready()
+        problem = 'did not answer' if ready else 'is not available'
         attempts = f' (each of {retries + 1} attempts)' if retries else ''
-        raise CamClientError(f'service {self.service} {problem} within {timeout:g} s{attempts}')
+        hint = '' if ready else missing(self.node, 'service', self.service)
+        raise CamClientError(f'service {self.service} {problem} within {timeout:g} s{attempts}'
+                             f'{hint}')
 
     def _wait_for_service(self, deadline: float) -> bool:
         while not self.client.service_is_ready():

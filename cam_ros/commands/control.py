@@ -5,7 +5,6 @@ so an integrator needs no `ros2` CLI. A refusal prints the node's reason verbati
 """
 from __future__ import annotations
 
-import difflib
 import json
 import time
 from typing import Any, Callable, Sequence
@@ -14,6 +13,7 @@ from cam_ros.commands.common import say
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.commands.ros import DEFAULT_TIMEOUT_S, request_once, ros_node
 from cam_ros.core import InvalidParameter
+from cam_ros.core.errors import did_you_mean
 
 DEFAULT_NODE = '/cam'
 
@@ -98,9 +98,8 @@ def _values(ask: Ask, node: str, names: Sequence[str]) -> dict[str, Any]:
                        ListParameters.Request()).result.names)
     for name in names:
         if name not in known:
-            close = difflib.get_close_matches(name, known, n=1)
-            hint = f' (did you mean {close[0]}?)' if close else ''
-            raise InvalidParameter('NAME', name, f'is not a parameter of {node}{hint}')
+            raise InvalidParameter('NAME', name,
+                                   f'is not a parameter of {node}{did_you_mean(name, known)}')
     wanted = list(names) or known
     types = ask(GetParameterTypes, f'{node}/get_parameter_types',
                 GetParameterTypes.Request(names=wanted)).types

@@ -6,7 +6,6 @@ KeyboardInterrupt) and shuts it down before returning.
 from __future__ import annotations
 
 import csv
-import difflib
 import math
 import os
 import sys
@@ -21,7 +20,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from cam_ros.client import CamClient, CamClientError
+from cam_ros.client import CamClient, CamClientError, missing
 from cam_ros.commands.common import dump_json, DYNAMICS_FIELDS, format_table, number, say
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
@@ -33,7 +32,6 @@ DEFAULT_TIMEOUT_S = 5.0
 UNIT_QUERY_TIMEOUT_S = 1.0  # most time spent asking the node for its follower type
 POLL_S = 0.05  # spin slice of the echo loop
 ECHO_DEPTH = 10
-SIMILAR_NAMES = 5  # most similar names an error lists
 
 
 @contextmanager
@@ -54,22 +52,6 @@ def ros_node(kind: str) -> Iterator[tuple[Node, SingleThreadedExecutor]]:
             node.destroy_node()
     finally:
         rclpy.try_shutdown(context=context)
-
-
-def missing(node: Node, kind: str, name: str) -> str:
-    """Explain a service or topic the graph lacks: the domain searched, similar names it has.
-
-    kind is 'service' or 'topic'; the result starts with a space, to follow the error text.
-    """
-    listed = (node.get_service_names_and_types() if kind == 'service'
-              else node.get_topic_names_and_types())
-    names = [found for found, _ in listed if found != name]
-    base = name.rpartition('/')[2]
-    similar = [found for found in names if found.rpartition('/')[2] == base]
-    similar += difflib.get_close_matches(name, names, n=SIMILAR_NAMES, cutoff=0.6)
-    domain = node.context.get_domain_id()
-    shown = ', '.join(list(dict.fromkeys(similar))[:SIMILAR_NAMES]) or 'none discovered yet'
-    return f' (ROS_DOMAIN_ID={domain}; similar {kind}s available: {shown})'
 
 
 def _remaining(deadline: float) -> float:
@@ -135,8 +117,7 @@ def call(angles: Sequence[float], degrees: bool = False, json_output: bool = Fal
         try:
             result = client.evaluate(values, timeout=timeout, retries=0)
         except CamClientError as err:
-            ready = client.client.service_is_ready()
-            say('call', f'{err}{"" if ready else missing(node, "service", client.service)}')
+            say('call', str(err))
             return EXIT_FAILED
         executor.add_node(node)
         unit = _position_unit(node, executor, service, deadline)

@@ -1,6 +1,8 @@
 """The one error root of cam_ros and its few meaningful subclasses."""
 from __future__ import annotations
 
+from collections.abc import Iterable
+import difflib
 import reprlib
 
 #: Longest quoted value in an error message (characters), before "... (N items)".
@@ -39,6 +41,21 @@ def quote(value: object) -> str:
 def one_line(message: str) -> str:
     """Join a multi-line message (e.g. a YAML parser's, with caret lines) into one line."""
     return ' '.join(line.strip() for line in message.splitlines() if line.strip(' ^'))
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str:
+    """Return ' (did you mean X?)' for the closest of the known names, or '' if none is close."""
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f' (did you mean {close[0]}?)' if close else ''
+
+
+def similar_names(name: str, known: Iterable[str], count: int) -> list[str]:
+    """Return up to count known names like name: same last /-part first, then close spellings."""
+    names = [found for found in known if found != name]
+    base = name.rpartition('/')[2]
+    similar = [found for found in names if found.rpartition('/')[2] == base]
+    similar += difflib.get_close_matches(name, names, n=count, cutoff=0.6)
+    return list(dict.fromkeys(similar))[:count]
 
 
 class CamError(Exception):

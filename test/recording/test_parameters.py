@@ -62,8 +62,7 @@ def event(node: str, kind: str, name: str, value: object) -> ParameterEvent:
         typed = ParameterValue(type=ParameterType.PARAMETER_BOOL, bool_value=value)
     else:
         typed = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=float(value))
-    return ParameterEvent(node=node, **{f'{kind}_parameters': [Parameter(name=name,
-                                                                          value=typed)]})
+    return ParameterEvent(node=node, **{f'{kind}_parameters': [Parameter(name=name, value=typed)]})
 
 
 def test_only_cam_nodes_changes_are_listed(ros, tmp_path):

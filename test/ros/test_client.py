@@ -110,12 +110,22 @@ def test_refusals_raise_with_the_nodes_reason(start_cam_node, executor):
         CamClient(executor.node('odd_user'), chunk_size=0)
 
 
-def test_a_missing_service_raises_after_every_attempt(executor):
+def test_a_missing_service_raises_after_every_attempt(executor, ros_domain):
     client = CamClient(executor.node('lonely_user'), '/nobody/evaluate')
     with pytest.raises(CamClientError) as raised:
         client.evaluate([0.0], timeout=0.1, retries=2)
-    assert str(raised.value) == ('service /nobody/evaluate is not available within 0.1 s '
-                                 '(each of 3 attempts)')
+    assert str(raised.value).startswith('service /nobody/evaluate is not available within 0.1 s '
+                                        f'(each of 3 attempts) (ROS_DOMAIN_ID={ros_domain}; '
+                                        'similar services available: ')
+
+
+def test_a_misspelt_service_is_named_with_the_similar_ones(start_cam_node, executor):
+    start_cam_node(DEFAULT)
+    client = CamClient(executor.node('typing_user'), '/cams/evaluate')
+    with pytest.raises(CamClientError) as raised:
+        client.evaluate([0.0], timeout=1.0, retries=0)
+    assert 'is not available within 1 s' in str(raised.value)
+    assert 'similar services available: /cam/evaluate' in str(raised.value)
 
 
 class StallingServer:

@@ -22,7 +22,6 @@ degrees.
 """
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,7 +29,7 @@ from typing import Any, Mapping
 
 from ..dynamics.contact import STEEL_MODULUS, STEEL_POISSON
 from ..dynamics.follower import DynamicsConfig, parse_dynamics
-from ..errors import InvalidParameter
+from ..errors import did_you_mean, InvalidParameter
 # The file side of the format (safe YAML reading, node sections) lives in params_file; these
 # names stay importable from here.
 from .params_file import (MAX_ARRAY_LENGTH, MAX_STRING_LENGTH, NODE_NAMES, flatten,  # noqa: F401
@@ -279,7 +278,9 @@ def _check_type(spec: ParameterSpec, value: Any) -> Any:
 
 def _check_range(spec: ParameterSpec, value: Any) -> None:
     if spec.choices and value not in spec.choices:
-        raise InvalidParameter(spec.name, value, 'must be one of ' + ', '.join(spec.choices))
+        hint = did_you_mean(value, spec.choices) if isinstance(value, str) else ''
+        raise InvalidParameter(spec.name, value,
+                               'must be one of ' + ', '.join(spec.choices) + hint)
     items = value if isinstance(value, tuple) else (value,)
     written = list(value) if isinstance(value, tuple) else value  # quoted as the file gives it
     for item in items:
@@ -295,9 +296,7 @@ def check_parameter(name: str, value: Any) -> Any:
     """Type- and range-check one parameter value; return it (arrays as tuples)."""
     spec = SPECS.get(name)
     if spec is None:
-        close = difflib.get_close_matches(name, SPECS, n=1)
-        hint = f' (did you mean {close[0]}?)' if close else ''
-        raise InvalidParameter(name, value, f'is not a cam parameter{hint}')
+        raise InvalidParameter(name, value, f'is not a cam parameter{did_you_mean(name, SPECS)}')
     checked = _check_type(spec, value)
     _check_range(spec, checked)
     return checked

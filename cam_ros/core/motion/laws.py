@@ -20,7 +20,7 @@ from ..arrays import FloatArray
 from ._law_base import full_like, InPlaceLaw, LawValues, MotionLaw
 from ._polynomial import Condition, Polynomial345, Polynomial4567, PolynomialLaw
 from ._sine_acceleration import ModifiedSine, ModifiedTrapezoid, SccaLaw, ViaPointLaw
-from ..errors import InvalidParameter
+from ..errors import did_you_mean, InvalidParameter
 
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
@@ -209,7 +209,8 @@ def make_law(name: str, **params: object) -> MotionLaw:
     """Return the law called name (a key of LAWS) built from its keyword parameters."""
     factory = LAWS.get(name) if isinstance(name, str) else None
     if factory is None:
-        raise InvalidParameter('law', name, 'must be one of ' + ', '.join(LAWS))
+        hint = did_you_mean(name, LAWS) if isinstance(name, str) else ''
+        raise InvalidParameter('law', name, 'must be one of ' + ', '.join(LAWS) + hint)
     accepted = inspect.signature(factory).parameters
     for key, value in params.items():
         if key not in accepted:
