@@ -15,7 +15,8 @@ from cam_ros.commands.common import (degrees, dump_json, DYNAMICS_FIELDS, end_pr
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.design import cam_degrees
 from cam_ros.core.dynamics.report import DynamicsReport
-from cam_ros.core.report import DesignReport, design_report, position_unit
+from cam_ros.core.report import (DesignReport, design_report, file_position_unit,
+                                 position_unit)
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 
 #: Points of `export --cam-table` without --points or --tolerance: one per degree.
@@ -355,8 +356,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
                      table_format: str, interpolation: str, end_point: bool | None,
                      derivatives: bool) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
-    from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
-                                                  slave_unit)
+    from cam_ros.output.cam_table_formats import cam_table_text, check_options, size_note
     from cam_ros.core.config.quantity import split_quantity
     from cam_ros.core.ecam.cam_table import equidistant_table, tolerance_table
 
@@ -365,7 +365,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     if tolerance is not None:
         split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
     design = load_design(config)
-    unit, factor = slave_unit(design)
+    unit, factor = file_position_unit(design)
     limit = None if tolerance is None else _table_tolerance(tolerance, design)
     try:
         table = (tolerance_table(design.program, limit, interpolation, unit=(unit, factor))
@@ -391,7 +391,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
 
 
 def _table_tolerance(text: str, design: CamDesign) -> float:
-    """Return --tolerance in SI: a bare number is in the table's unit (see slave_unit)."""
+    """Return --tolerance in SI: a bare number is in the table's unit (see file_position_unit)."""
     from cam_ros.core.config.quantity import typed_quantity
 
     value = typed_quantity('--tolerance', text, design.config.length_unit,

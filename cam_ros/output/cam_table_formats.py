@@ -17,7 +17,7 @@ import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.ecam.cam_table import CamTable
-from cam_ros.core.config.schema import LENGTH_UNITS
+from cam_ros.core.report import file_position_unit
 
 DEGREE = math.pi / 180.0
 #: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).
@@ -99,18 +99,10 @@ def check_options(name: str, interpolation: str, derivatives: bool) -> bool:
     return target.derivatives == 'always' or derivatives or interpolation == 'cubic'
 
 
-def slave_unit(design: CamDesign) -> tuple[str, float]:
-    """Return the slave unit of the file and its factor from SI (m or rad)."""
-    if design.config.follower.type.startswith('oscillating'):
-        return 'deg', 1.0 / DEGREE
-    unit = design.config.length_unit
-    return unit, 1.0 / LENGTH_UNITS[unit]
-
-
 def table_columns(table: CamTable, design: CamDesign,
                   derivatives: bool) -> tuple[list[str], np.ndarray]:
     """Return the column names (with units) and values of a table, in the file's units."""
-    unit, factor = slave_unit(design)
+    unit, factor = file_position_unit(design)
     names = ['master_deg', f'slave_{unit}']
     columns = [table.master_deg, table.position * factor]
     if derivatives:
@@ -122,7 +114,7 @@ def table_columns(table: CamTable, design: CamDesign,
 def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point: bool,
            derivatives: bool) -> list[str]:
     """Return the header lines: what the table is, what it assumes, how exact it is."""
-    unit, factor = slave_unit(design)
+    unit, factor = file_position_unit(design)
     steps = len(table.master_deg) - 1
     spacing = (f'placed for {table.interpolation} interpolation within a tolerance of '
                f'{table.tolerance * factor:.6g} {unit} (greedy; segment boundaries are '
@@ -152,7 +144,7 @@ def cam_table_text(table: CamTable, design: CamDesign, name: str, source: str,
     if not end_point:
         values = values[:-1]
     if target.max_points and len(values) > target.max_points:
-        unit, factor = slave_unit(design)
+        unit, factor = file_position_unit(design)
         option, value = (('--points', len(values) - end_point) if table.tolerance is None
                          else ('--tolerance', f'{number(table.tolerance * factor)} {unit}'))
         raise InvalidParameter(option, value, f'gives {len(values)} points; --format {name} '

@@ -6,7 +6,10 @@ contact stress with its allowable); the cam drawing.
 
 Uses matplotlib's object API (Figure + Agg canvas), never pyplot, so no display and no global
 state are involved. The cam is drawn in the fixed frame (follower side up, +y) turned to the
-chosen cam angle, in mm; the diagrams are in SI units over cam angle in degrees.
+chosen cam angle, in mm. Over cam angle in degrees: S-V-A-J in the config's position unit
+(length_unit, or deg of arm angle) per s, s^2, s^3, the radius of curvature in length_unit.
+Each joint is sampled on both sides, so a jump is drawn as one, and the unbounded derivative a
+jump implies is marked.
 """
 from __future__ import annotations
 
@@ -18,10 +21,12 @@ import numpy as np
 
 from cam_ros.core import (CamDesign, CamState, InvalidParameter, OscillatingFlat,
                           OscillatingRoller, TranslatingRoller, cam_geometry)
-from cam_ros.core.report import position_unit
+from cam_ros.core.config.schema import LENGTH_UNITS
+from cam_ros.core.report import file_position_unit, position_unit
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 PLOT_SAMPLES = 3601  # points of the S-V-A-J curves over 0..360 deg
 DRAW_SAMPLES = 1440  # points of the cam curves
@@ -40,10 +45,20 @@ def _rotation(angle: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def _revolution() -> np.ndarray:
-    """Return PLOT_SAMPLES cam angles over 0..360 deg, the last the left limit at 360 deg."""
-    theta = np.linspace(0.0, 2.0 * math.pi, PLOT_SAMPLES)
-    theta[-1] = np.nextafter(2.0 * math.pi, 0.0)  # the left limit at 360 deg, not the wrap to 0
+def _revolution(design: CamDesign) -> np.ndarray:
+    """Return PLOT_SAMPLES cam angles over 0..360 deg plus both sides of every joint and jump.
+
+    The last angle is the left limit at 360 deg, not the wrap to 0; a joint's left limit is
+    the float just below it, so a jump there is drawn vertical, not as a slope between samples.
+    """
+    program = design.program
+    joints = np.array([segment.start for segment in program.segments]
+                      + [jump.angle for jump in program.continuity_report()]) % (2.0 * math.pi)
+    joints = joints[joints > 0.0]
+    theta = np.concatenate((np.linspace(0.0, 2.0 * math.pi, PLOT_SAMPLES), joints,
+                            np.nextafter(joints, 0.0)))
+    theta = np.unique(theta)
+    theta[-1] = np.nextafter(2.0 * math.pi, 0.0)
     return theta
 
 
@@ -69,18 +84,34 @@ def _angle_axis(axes: list[Axes]) -> None:
 
 
 def _diagrams(design: CamDesign, axes: list[Axes], state: CamState, angle: float) -> None:
-    """Plot position, velocity, acceleration and jerk over one revolution on four axes."""
-    unit = position_unit(design)
+    """Plot position, velocity, acceleration and jerk over one revolution on four axes.
+
+    Law names label the joints; a velocity jump is marked on the acceleration diagram and an
+    acceleration jump on the jerk diagram (each is an unbounded value of that derivative).
+    """
+    unit, factor = file_position_unit(design)
     rows = ((state.position, f'position ({unit})', 'tab:blue'),
             (state.velocity, f'velocity ({unit}/s)', 'tab:green'),
             (state.acceleration, f'acceleration ({unit}/s²)', 'tab:red'),
             (state.jerk, f'jerk ({unit}/s³)', 'tab:purple'))
     degrees = np.degrees(state.angle)
     for ax, (values, label, colour) in zip(axes, rows):
-        ax.plot(degrees, values, color=colour, linewidth=1.2)
+        ax.plot(degrees, values * factor, color=colour, linewidth=1.2)
         _frame(design, ax, angle, label)
-    laws = ', '.join(segment.law.name for segment in design.program.segments)
-    axes[0].set_title(f'S-V-A-J at {design.config.cam_speed:g} rad/s: {laws}', fontsize=10)
+    for segment in design.program.segments:
+        axes[0].text(math.degrees(segment.start) % 360.0 + 1.0, 0.97, segment.law.name,
+                     transform=axes[0].get_xaxis_transform(), rotation=90, fontsize=7,
+                     va='top', color='0.3', bbox={'color': 'white', 'alpha': 0.7, 'pad': 1})
+    for order, name in ((1, 'velocity'), (2, 'acceleration')):
+        jumps = [jump.angle for jump in design.program.continuity_report() if jump.order == order]
+        for number, jump in enumerate(jumps):
+            mark = axes[order + 1].axvline(math.degrees(jump) % 360.0, color='k',
+                                           linewidth=1.4, linestyle=(0, (1, 1)),
+                                           label=f'{name} jump: unbounded' if number == 0 else '_')
+            mark.set_gid(f'{name} jump')
+        if jumps:
+            axes[order + 1].legend(loc='upper right', fontsize=7)
+    axes[0].set_title(f'S-V-A-J at {design.config.cam_speed:g} rad/s', fontsize=10)
 
 
 def _limit(ax: Axes, value: float, label: str) -> None:
@@ -100,13 +131,15 @@ def _geometry_panels(design: CamDesign, axes: list[Axes], state: CamState,
     _frame(design, axes[0], angle, 'pressure angle (deg)')
     axes[0].legend(loc='upper right', fontsize=7)
     axes[0].set_title('Pressure angle and radius of curvature', fontsize=10)
-    radius = state.radius_of_curvature * MM_PER_M
-    cap = RADIUS_CAP * design.follower.base_radius * MM_PER_M  # an inflection's is unbounded
+    unit = design.config.length_unit
+    per_metre = 1.0 / LENGTH_UNITS[unit]
+    radius = state.radius_of_curvature * per_metre
+    cap = RADIUS_CAP * design.follower.base_radius * per_metre  # an inflection's is unbounded
     axes[1].plot(degrees, np.where(np.abs(radius) <= cap, radius, np.nan), color='tab:green',
                  linewidth=1.2)
-    _frame(design, axes[1], angle, 'radius of curvature (mm)')
+    _frame(design, axes[1], angle, f'radius of curvature ({unit})')
     if design.config.min_radius_of_curvature > 0.0:
-        _limit(axes[1], design.config.min_radius_of_curvature * MM_PER_M, 'smallest allowed')
+        _limit(axes[1], design.config.min_radius_of_curvature * per_metre, 'smallest allowed')
         axes[1].legend(loc='upper right', fontsize=7)
 
 
@@ -235,20 +268,16 @@ def _drawing(design: CamDesign, ax: Axes, angle: float) -> None:
     ax.legend(loc='lower left', fontsize=8)
 
 
-def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
-                title: str = '') -> Path:
-    """Save the diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
+def design_figure(design: CamDesign, angle: float = 0.0, title: str = '') -> Figure:
+    """Return the figure of the diagrams and the cam drawing at cam angle (rad)."""
     from matplotlib.figure import Figure
 
-    target = Path(path)
-    if target.suffix.lower() not in FORMATS:
-        raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
     if not math.isfinite(angle):
         raise InvalidParameter('angle', angle, 'must be a finite cam angle (rad)')
     figure = Figure(figsize=FIGURE_SIZE_IN, layout='constrained')
     columns = figure.add_gridspec(1, 3, width_ratios=(1.0, 1.0, 1.1))
     dynamic = design.dynamics is not None
-    state = design.evaluate(_revolution())
+    state = design.evaluate(_revolution(design))
     for column, count in ((0, 4), (1, 5 if dynamic else 2)):
         rows = columns[0, column].subgridspec(count, 1)
         first = figure.add_subplot(rows[0])
@@ -262,5 +291,14 @@ def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
     _drawing(design, figure.add_subplot(columns[0, 2]), angle)
     if title:
         figure.suptitle(title)
-    figure.savefig(target, dpi=DPI)
+    return figure
+
+
+def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
+                title: str = '') -> Path:
+    """Save the diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
+    target = Path(path)
+    if target.suffix.lower() not in FORMATS:
+        raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
+    design_figure(design, angle, title).savefig(target, dpi=DPI)
     return target

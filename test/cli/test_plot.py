@@ -8,10 +8,10 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, FOLLOWERS,
-                         run_cli, SHIPPED_CONFIGS)
+                         run_cli, SHIPPED_CONFIGS, write_config)
 
 from cam_ros.commands.common import load_design
-from cam_ros.output.plot import _follower_lines, _rotation, DPI, FIGURE_SIZE_IN
+from cam_ros.output.plot import _follower_lines, _rotation, design_figure, DPI, FIGURE_SIZE_IN
 
 PNG_SIGNATURE = b'\x89PNG\r\n\x1a\n'
 DRAWING_TOLERANCE_MM = 1e-9
@@ -46,7 +46,7 @@ def test_svg_holds_the_diagrams_and_the_drawing(tmp_path, capsys):
     root = ET.parse(target).getroot()
     assert root.tag == '{http://www.w3.org/2000/svg}svg'
     text = target.read_text()
-    for label in ('position (m)', 'velocity (m/s)', 'jerk', 'cam angle (deg)', 'cam surface',
+    for label in ('position (cm)', 'velocity (cm/s)', 'jerk', 'cam angle (deg)', 'cam surface',
                   'pitch curve', 'base circle', 'follower'):
         assert label in text, label
 
@@ -137,3 +137,33 @@ def test_every_follower_plots(kind, tmp_path, capsys):
 ])
 def test_bad_plot_arguments_exit_2(argv, fragments, capsys):
     assert_one_error_line(run_cli(capsys, 'plot', DEFAULT_CONFIG, *argv), 'plot', *fragments)
+
+
+def test_svaj_are_in_the_config_unit_with_joints_named_and_a_velocity_jump_drawn_as_one(
+        tmp_path):
+    # Dwell, then constant velocity from 90 deg: ds/dtheta jumps from 0 to 2 cm / (pi/2) there.
+    def edit(parameters):
+        motion = parameters['motion']
+        motion['laws'] = ['dwell', 'constant_velocity', 'dwell', 'cycloidal']
+        parameters['limits']['allow_velocity_jumps'] = True
+    design = load_design(write_config(tmp_path, 'jump', edit))
+    figure = design_figure(design)
+    position, velocity, acceleration, jerk = figure.axes[:4]
+    assert position.get_ylabel() == 'position (cm)' and velocity.get_ylabel() == 'velocity (cm/s)'
+    labels = [text.get_text() for text in position.texts]
+    assert labels == ['dwell', 'constant_velocity', 'dwell', 'cycloidal']
+    # The plotted velocity steps at 90 deg from 0 to omega * 2 cm / 90 deg, in cm/s, between
+    # two neighbouring floats of angle: drawn vertical, not as a slope between grid samples.
+    x, v = velocity.lines[0].get_data()
+    at = np.flatnonzero(np.isclose(x, 90.0, rtol=0.0, atol=1e-9))
+    assert len(at) == 2 and at[1] == at[0] + 1
+    omega = design.config.cam_speed
+    assert v[at].tolist() == pytest.approx([0.0, omega * 2.0 / (math.pi / 2.0)], abs=1e-9)
+
+    def marks(ax, name):
+        return [line.get_xdata()[0] for line in ax.lines if line.get_gid() == f'{name} jump']
+
+    # Constant velocity starts and ends with a velocity jump; the cycloidal return meets its
+    # dwells with zero acceleration, so no acceleration jump is marked on the jerk diagram.
+    assert marks(acceleration, 'velocity') == pytest.approx([90.0, 180.0])
+    assert marks(jerk, 'acceleration') == []
