@@ -25,14 +25,29 @@ from cam_ros.core import CamError
 from cam_ros.core.errors import one_line
 from cam_ros.core.ecam.cam_table import INTERPOLATIONS
 
-EXIT_CODES = '''exit codes:
-  0  ok
-  1  the design violates one of its limits (pressure angle, radius of curvature, undercut,
-     jump or contact stress with dynamics; the output is still written), or a call, echo,
-     record, reload or param command failed or was refused
-  2  invalid input (config, arguments, file): one line "cam_ros <command>: <message>" on stderr
-  130 interrupted by Ctrl-C (echo and replay stop cleanly and exit 0); 141 output pipe closed
-'''
+#: What exit code 1 means for each kind of command (commands without a failure never return 1).
+LIMITS_FAILED = ('the design violates one of its limits (pressure angle, radius of curvature, '
+                 'undercut, a velocity jump, or contact stress with dynamics); the output is '
+                 'still written')
+CALL_FAILED = 'the service was not available, refused the request or did not answer in time'
+ECHO_FAILED = 'the messages asked for (any, without --count/--once) did not arrive in --timeout'
+NODE_FAILED = 'the node was not found, did not answer in time or refused the request'
+ANY_FAILED = ('report, sample, plot, export: the design violates a limit; call, echo, record, '
+              'reload, param: the ROS request failed or was refused')
+STOPS_CLEANLY = 'Ctrl-C stops cleanly (exit 0)'
+
+
+def exit_codes(failed: str | None, interrupt: str = '130 interrupted by Ctrl-C') -> str:
+    """Return the 'exit codes:' epilog of a command: only the codes it can return."""
+    lines = ['exit codes:', '  0  ok']
+    if failed:
+        lines += textwrap.wrap(failed, HELP_WIDTH, initial_indent='  1  ',
+                               subsequent_indent='     ')
+    lines += ['  2  invalid input (config, arguments, file): one line on stderr,',
+              '     "cam_ros <command>: <message>"', f'  {interrupt}; 141 output pipe closed']
+    return '\n'.join(lines) + '\n'
+
+
 HELP_WIDTH = 79
 EXIT_INTERRUPTED = 130
 EXIT_BROKEN_PIPE = 141
@@ -86,9 +101,9 @@ POINTS = _number(int, 'an integer >= 2', lambda x: x >= 2)
 
 
 def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
-             description: str) -> argparse.ArgumentParser:
+             description: str, epilog: str) -> argparse.ArgumentParser:
     """Add a subcommand whose handler is the function target ('module:function')."""
-    parser = sub.add_parser(name, help=summary, epilog=EXIT_CODES,
+    parser = sub.add_parser(name, help=summary, epilog=epilog,
                             description=textwrap.fill(f'{summary}. {description}', HELP_WIDTH),
                             formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.set_defaults(handler=target)
@@ -100,7 +115,7 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
                       'Pressure angle, radius of curvature, undercut, smallest base radius, '
                       'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
-                      'discontinuities. SI units, angles in degrees.')
+                      'discontinuities. SI units, angles in degrees.', exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--json', dest='json_output', action='store_true',
                         help='print one JSON object instead of text')
@@ -108,7 +123,8 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
                       'Arrays over one revolution from 0: angle (rad), position, velocity, '
                       'acceleration, jerk (SI), their derivatives per rad of cam angle, '
-                      'pressure angle (rad) and radius of curvature (m).')
+                      'pressure angle (rad) and radius of curvature (m).',
+                      exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--step-deg', type=STEP_DEG, default=1.0, metavar='D',
                         help='cam angle step in degrees (default 1)')
@@ -120,7 +136,8 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
 
     parser = _command(sub, 'plot', 'cam_ros.commands.design:plot', 'Plot a cam design',
                       'S-V-A-J diagrams over cam angle and a drawing of the cam (surface, '
-                      'pitch curve, base circle) with the follower at the chosen angle.')
+                      'pitch curve, base circle) with the follower at the chosen angle.',
+                      exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
                         help='image to write: .png or .svg')
@@ -133,7 +150,8 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                       'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
                       '(closed path). With --cam-table: master position (deg) -> slave '
                       'position (length_unit, deg for oscillating followers), optionally '
-                      'velocity and acceleration per deg and deg^2 of master.')
+                      'velocity and acceleration per deg and deg^2 of master.',
+                      exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
                         help='file to write: .csv, .dxf or .svg (a cam table: any name)')
@@ -169,7 +187,8 @@ def _ros_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'call', 'cam_ros.commands.ros:call', 'Call a cam node',
                       'Evaluate the served cam at cam angles through its EvaluateCam service '
                       'and print position, velocity, acceleration, jerk, pressure angle and '
-                      'radius of curvature (SI; the table shows angles in degrees too).')
+                      'radius of curvature (SI; the table shows angles in degrees too).',
+                      exit_codes(CALL_FAILED))
     parser.add_argument('angles', nargs='+', type=FINITE, metavar='ANGLE',
                         help='cam angles, rad (deg with --deg); any real value')
     parser.add_argument('--deg', dest='degrees', action='store_true',
@@ -184,7 +203,7 @@ def _ros_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'echo', 'cam_ros.commands.ros:echo', 'Print a topic',
                       'Subscribe to any topic once it has a publisher (type and QoS from the '
                       'graph; latched topics are received) and print each message YAML-like, '
-                      'or as CSV of its numeric fields.')
+                      'or as CSV of its numeric fields.', exit_codes(ECHO_FAILED, STOPS_CLEANLY))
     parser.add_argument('topic', metavar='TOPIC', help='topic name, e.g. /cam/joint_states')
     amount = parser.add_mutually_exclusive_group()
     amount.add_argument('--once', action='store_true', help='print one message and exit')
@@ -207,26 +226,29 @@ def _node_options(parser: argparse.ArgumentParser) -> None:
 def _node_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'record', 'cam_ros.commands.control:record',
                       'Start or stop recording', 'Through the node\'s ~/record service; prints '
-                      'the file recorded to, or the messages written.')
+                      'the file recorded to, or the messages written.', exit_codes(NODE_FAILED))
     parser.add_argument('state', choices=('on', 'off'), metavar='on|off',
                         help='on: record to a new file; off: stop, write the summary')
     _node_options(parser)
 
     parser = _command(sub, 'reload', 'cam_ros.commands.control:reload',
                       'Reload the params file', 'The node re-reads the params file it was '
-                      'started with (~/reload); a file the node refuses changes nothing.')
+                      'started with (~/reload); a file the node refuses changes nothing.',
+                      exit_codes(NODE_FAILED))
     _node_options(parser)
 
     parser = _command(sub, 'param', '', 'Get, set or list node parameters',
                       'Through the node\'s parameter services. `set` is atomic: all the '
-                      'values are taken, or none and the node\'s reason is printed.')
+                      'values are taken, or none and the node\'s reason is printed.',
+                      exit_codes(NODE_FAILED))
     actions = parser.add_subparsers(dest='action', metavar='ACTION', required=True)
     made = {}
     for action, summary in (('get', 'print parameter values'),
                             ('set', 'set parameters atomically'),
                             ('list', 'print every parameter and its value')):
         made[action] = actions.add_parser(
-            action, help=summary, description=f'{summary.capitalize()}.', epilog=EXIT_CODES,
+            action, help=summary, description=f'{summary.capitalize()}.',
+            epilog=exit_codes(NODE_FAILED),
             formatter_class=argparse.RawDescriptionHelpFormatter)
         made[action].set_defaults(handler=f'cam_ros.commands.control:param_{action}')
         _node_options(made[action])
@@ -239,13 +261,14 @@ def _node_commands(sub: argparse._SubParsersAction) -> None:
 def _recording_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'info', 'cam_ros.commands.recording:info', 'Describe a recording',
                       'Topics, types, counts, QoS, duration and attachments of an MCAP '
-                      'recording, laid out like `ros2 bag info`.')
+                      'recording, laid out like `ros2 bag info`.', exit_codes(None))
     parser.add_argument('path', metavar='FILE', help='MCAP recording')
     parser.add_argument('--json', dest='json_output', action='store_true',
                         help='print one JSON object')
 
     parser = _command(sub, 'replay', 'cam_ros.commands.recording:replay', 'Replay a recording',
-                      'Publish the recorded messages with their recorded QoS and timing.')
+                      'Publish the recorded messages with their recorded QoS and timing.',
+                      exit_codes(None, STOPS_CLEANLY))
     parser.add_argument('path', metavar='FILE', help='MCAP recording')
     parser.add_argument('--rate', type=POSITIVE, default=1.0, metavar='R',
                         help='speed factor (default 1: recorded timing)')
@@ -260,7 +283,7 @@ def _recording_commands(sub: argparse._SubParsersAction) -> None:
                       'Recover a killed recording',
                       'Copy what a recording cut short holds (every complete record) into a '
                       'finished file with summary, footer and rosbag2 metadata, which every '
-                      'reader opens; the input is left alone unless --in-place.')
+                      'reader opens; the input is left alone unless --in-place.', exit_codes(None))
     parser.add_argument('path', metavar='FILE', help='MCAP recording')
     target = parser.add_mutually_exclusive_group()
     target.add_argument('-o', '--output', default=None, metavar='OUT',
@@ -276,7 +299,9 @@ def build_parser() -> argparse.ArgumentParser:
     except PackageNotFoundError:
         release = 'unknown'
     parser = _Parser(prog='cam_ros', description='Design, inspect and serve disk cams.',
-                     epilog=EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter)
+                     epilog=exit_codes(ANY_FAILED, '130 interrupted by Ctrl-C (echo, replay: '
+                                                   'exit 0)'),
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--version', action='version', version=f'cam_ros {release}')
     sub = parser.add_subparsers(dest='command', metavar='COMMAND', required=True)
     _design_commands(sub)

@@ -29,6 +29,38 @@ def test_every_command_has_help_with_the_exit_codes(command, capsys):
     assert 'exit codes:' in run.out
 
 
+#: Command -> a fragment of what exit code 1 means for it (None: it never returns 1), and
+#: whether Ctrl-C ends it with 0 instead of 130.
+FAILURES = {'report': ('violates one of its limits', False), 'sample': ('violates', False),
+            'plot': ('violates', False), 'export': ('violates', False),
+            'call': ('service was not available', False), 'echo': ('did not arrive', True),
+            'record': ('node was not found', False), 'reload': ('node was not found', False),
+            'param get': ('refused', False), 'param set': ('refused', False),
+            'param list': ('refused', False), 'info': (None, False), 'replay': (None, True),
+            'recover': (None, False)}
+HANDLERS = {'info': 'cam_ros.commands.recording:info',
+            'replay': 'cam_ros.commands.recording:replay',
+            'recover': 'cam_ros.commands.recording:recover'}
+
+
+@pytest.mark.parametrize('command', list(FAILURES))
+def test_help_lists_only_the_exit_codes_the_command_can_return(command, capsys):
+    run = run_cli(capsys, *command.split(), '--help')
+    epilog = run.out[run.out.index('exit codes:'):]
+    codes = {line.split()[0]: line for line in epilog.splitlines()[1:] if line[2:3].isdigit()}
+    failure, stops_cleanly = FAILURES[command]
+    if failure is None:
+        assert '1' not in codes
+        # ... and the handler indeed has no failure exit: errors raise (exit 2).
+        source = inspect.getsource(_handler(HANDLERS[command]))
+        assert 'EXIT_FAILED' not in source and 'verdict(' not in source
+    else:
+        assert failure in ' '.join(epilog.split())
+    assert {'0', '2'} <= set(codes)
+    assert ('130' in epilog) is not stops_cleanly
+    assert ('exit 0' in epilog) is stops_cleanly
+
+
 def test_version(capsys):
     run = run_cli(capsys, '--version')
     assert run.code == 0 and run.out.startswith('cam_ros ')
