@@ -9,7 +9,6 @@ once a second. Every number comes from cam_ros.core.ecam.master and cam_ros.core
 """
 from __future__ import annotations
 
-from contextlib import ExitStack
 import threading
 from typing import Any, Callable
 
@@ -19,6 +18,7 @@ from rcl_interfaces.msg import SetParametersResult
 from rclpy.duration import Duration
 from rclpy.exceptions import InvalidHandle
 from rclpy.guard_condition import GuardCondition
+from rclpy.event_handler import SubscriptionEventCallbacks
 # rclpy has no public wait set; its executors and wait_for_message use this one.
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -33,9 +33,9 @@ from cam_ros.core.ecam.handover import Handover
 from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                       MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.recording import Recorder, TopicSpec
-from cam_ros.node.qos_events import publisher, subscription_events
+from cam_ros.node.qos_events import publisher
 from cam_ros.rclpy_gaps import wait_set
-from cam_ros.recording.intake import add_events, serve_events, TakenByIntake
+from cam_ros.recording.intake import TakenByIntake
 
 #: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
 #: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
@@ -80,12 +80,13 @@ class MasterIntake:
     def __init__(self, node: Node, topic: str, callback: Callable[[JointState], None]):
         self._callback = callback
         self._stop = threading.Event()
+        # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
+        # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
         self.subscription = node.create_subscription(
             JointState, topic, callback, MASTER_QOS, callback_group=TakenByIntake(),
-            event_callbacks=subscription_events(node, topic))
-        self._events = list(self.subscription.event_handlers)
+            event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))
         self._wake = GuardCondition(None, None, context=node.context)
-        self._wait_set = wait_set(node.context, 1, 1, len(self._events))
+        self._wait_set = wait_set(node.context, 1, 1)
         self._node = node
         self._thread = threading.Thread(target=self._run, name='master', daemon=True)
         self._thread.start()
@@ -94,9 +95,7 @@ class MasterIntake:
         subscription, wait_set = self.subscription, self._wait_set
         try:
             while not self._stop.is_set():
-                with ExitStack() as stack:
-                    stack.enter_context(subscription.handle)
-                    stack.enter_context(self._wake.handle)
+                with subscription.handle, self._wake.handle:
                     taken = subscription.handle.take_message(JointState, False)
                     if taken is not None:
                         self._callback(taken[0])
@@ -104,9 +103,7 @@ class MasterIntake:
                     wait_set.clear_entities()
                     wait_set.add_subscription(subscription.handle)
                     wait_set.add_guard_condition(self._wake.handle)
-                    add_events(stack, wait_set, self._events)
                     wait_set.wait(-1)
-                    serve_events(wait_set, self._events)
         except InvalidHandle:
             pass  # the node went away under the thread
 

@@ -1,11 +1,11 @@
-"""Warn, naming the topic, when a peer's QoS can never match one of the node's endpoints.
+"""Warn, naming the topic, when a peer's QoS can never match one of the node's publishers.
 
-rclpy's own default warning names the topic as written ('~/master'), and none is heard for a
-subscription whose callbacks no executor runs; these name the resolved topic and the policy.
+rclpy's own default warning names the topic as written ('~/commands'); this one names the
+resolved topic and the policy.
 """
 from typing import Any, Callable
 
-from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
+from rclpy.event_handler import PublisherEventCallbacks
 from rclpy.node import Node
 from rclpy.publisher import Publisher
 from rclpy.qos import qos_policy_name_from_kind, QoSProfile
@@ -26,8 +26,3 @@ def publisher(node: Node, msg_type: Any, topic: str, qos: QoSProfile) -> Publish
     """Create a publisher of the node whose incompatible subscriptions are warned about."""
     return node.create_publisher(msg_type, topic, qos, event_callbacks=PublisherEventCallbacks(
         incompatible_qos=_warning(node, topic, 'subscription')))
-
-
-def subscription_events(node: Node, topic: str) -> SubscriptionEventCallbacks:
-    """Return event callbacks for a subscription of the node on topic."""
-    return SubscriptionEventCallbacks(incompatible_qos=_warning(node, topic, 'publisher'))
