@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from benchmarks.core import core_figures, geometry_figures, loop_figure, report_figure
-from benchmarks.dynamics import evaluate_figure
+from benchmarks.dynamics import evaluate_figure, vibration_figure
 from benchmarks.ecam import ecam_figures, EcamSizes
 from benchmarks.recording import recording_figures, RecordingSizes
 from benchmarks.report import Figure, machine, write_results
@@ -46,7 +46,8 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
                loop_figure(design, sizes.loop_count, sizes.loop_repeats),
                *geometry_figures(design, sizes.geometry_count, sizes.geometry_repeats),
                report_figure(design, sizes.geometry_repeats),
-               evaluate_figure(config, design, sizes.geometry_count, sizes.geometry_repeats)]
+               evaluate_figure(config, design, sizes.geometry_count, sizes.geometry_repeats),
+               vibration_figure(config, design, sizes.geometry_repeats)]
     with RosGraph(workdir) as graph:
         figures.extend(service_figures(graph, sizes.service))
         figures.extend(recording_figures(graph, workdir, sizes.recording))

@@ -15,6 +15,7 @@ from benchmarks.core import angles
 from benchmarks.report import Figure, Target
 from benchmarks.timing import interleaved_medians
 from cam_ros.core import CamDesign, build_design, parse_parameters, read_parameters_file
+from cam_ros.core.report import design_report
 
 #: The issue's target: dynamics add at most 25 % to evaluate and to the 1-angle service p50.
 DYNAMICS_TARGET = Target('<=', 1.25)
@@ -63,3 +64,28 @@ def service_figure(p50_with: float, p50_without: float, calls: int) -> Figure:
         'without dynamics, p50', p50_without, DYNAMICS_TARGET,
         f'Two cam_node processes on the same design, one with the follower train of '
         f'benchmarks/dynamics.py, called in alternating blocks ({calls} calls each).')
+
+
+#: The issue's target: a follower train's vibration figures add at most 25 % to the report.
+VIBRATION_TARGET = Target('<=', 1.25)
+#: Added to the benchmarked config: a follower train of 6 Hz (6 x the default cam's frequency).
+TRAIN = {'dynamics.train_natural_frequency': 6.0, 'dynamics.train_damping_ratio': 0.05}
+
+
+def vibration_figure(config: Path, design: CamDesign, repeats: int) -> Figure:
+    """Time the design report with and without a follower train, interleaved."""
+    flat = read_parameters_file(config)
+    flat.update(TRAIN)
+    elastic = build_design(parse_parameters(flat))
+
+    def report(cam: CamDesign) -> object:
+        fresh = CamDesign(cam.config, cam.program, cam.follower)  # nothing cached
+        return design_report(fresh), fresh.vibration_check
+    times = interleaved_medians({'rigid': lambda: report(design),
+                                 'elastic': lambda: report(elastic)}, repeats)
+    return Figure(
+        'design_report_vibration_ms', 'design_report with a follower train (vibration figures)',
+        times['elastic'] * 1e-6, 'ms', 'design_report, rigid train', times['rigid'] * 1e-6,
+        VIBRATION_TARGET,
+        'The default design with a 6 Hz train: residual vibration per segment (quadrature), '
+        'the periodic response (FFT of 16,384 samples) and its refined extremes.')

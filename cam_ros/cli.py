@@ -143,6 +143,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='image to write: .png or .svg')
     parser.add_argument('--angle-deg', type=FINITE, default=0.0, metavar='A',
                         help='cam angle at which the follower is drawn, deg (default 0)')
+    parser.add_argument('--vibration', action='store_true',
+                        help='draw the follower train instead: residual-vibration spectrum of '
+                             'each moving segment\'s law over r = 0.5..10 with this design\'s '
+                             'operating points, and the periodic output against s')
 
     parser = _command(sub, 'export', 'cam_ros.commands.design:export',
                       'Export the cam surface for manufacturing, or a cam table for a PLC',

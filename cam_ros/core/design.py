@@ -16,7 +16,9 @@ import numpy.typing as npt
 
 from .config.schema import LENGTH_UNITS, CamConfig, MotionConfig
 from .dynamics.follower import DynamicsValues, FollowerDynamics
+from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
+from .dynamics.vibration import RIGID_RATIO, vibration_report, VibrationReport
 from .errors import InvalidParameter, quote
 from .extremes import CHECK_SAMPLES
 from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
@@ -78,13 +80,26 @@ class CamDesign:
         """True for a cam turning clockwise seen from +z."""
         return self.config.clockwise
 
+    @cached_property
+    def surface(self) -> MotionProgram:
+        """Return the motion the cam surface gives the follower's input.
+
+        The program itself, or with dynamics.compensate the polydyne cam (see polydyne.py),
+        whose elastic train outputs the program at cam_speed. Geometry is the surface's.
+        """
+        train = self.config.train
+        if train is None or not train.compensate:
+            return self.program
+        return compensated_program(self.program, self.config.cam_speed, train)
+
     def evaluate(self, angles: npt.ArrayLike) -> CamState:
         """Evaluate follower motion and cam geometry at cam angles (rad, taken modulo 2 pi)."""
         theta = np.mod(np.asarray(angles, dtype=float), TWO_PI)
         motion = self.program.evaluate(theta)
         timed = motion.at_speed(self.config.cam_speed)
-        pressure_angle, radius = contact_measures(self.follower, theta, motion.s, motion.ds,
-                                                  motion.d2s, clockwise=self.clockwise)
+        cam = motion if self.surface is self.program else self.surface.evaluate(theta)
+        pressure_angle, radius = contact_measures(self.follower, theta, cam.s, cam.ds,
+                                                  cam.d2s, clockwise=self.clockwise)
         forces = None if self.dynamics is None else self.dynamics.values(
             motion.s, motion.ds, motion.d2s, pressure_angle, radius)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
@@ -104,7 +119,7 @@ class CamDesign:
     def geometry(self, count: int = CHECK_SAMPLES) -> CamGeometry:
         """Return the cam's geometry (pitch curve, surface, ...) at count angles from 0."""
         theta = np.linspace(0.0, TWO_PI, count, endpoint=False)
-        motion = self.program.evaluate(theta)
+        motion = self.surface.evaluate(theta)
         return cam_geometry(self.follower, theta, motion.s, motion.ds, motion.d2s,
                             clockwise=self.clockwise)
 
@@ -113,7 +128,7 @@ class CamDesign:
         """Check the design against its limits: extremes refined from a dense sampling."""
         return check_geometry(self.geometry(), max_pressure_angle=self.config.pressure_angle_limit,
                               min_radius=self.config.min_radius_of_curvature,
-                              program=self.program)
+                              program=self.surface)
 
     @cached_property
     def dynamics_check(self) -> DynamicsReport | None:
@@ -121,6 +136,15 @@ class CamDesign:
         if self.dynamics is None:
             return None
         return dynamics_report(self.dynamics, self.program, self.evaluate)
+
+    @cached_property
+    def vibration_check(self) -> VibrationReport | None:
+        """Return the elastic train's figures at the cam speed, None for a rigid train."""
+        train = self.config.train
+        if train is None:
+            return None
+        return vibration_report(self.surface, self.config.cam_speed, train, self.dynamics,
+                                output=self.program)
 
     @cached_property
     def velocity_jumps(self) -> tuple[Discontinuity, ...]:
@@ -136,8 +160,9 @@ class CamDesign:
 
         A velocity jump at a joint fails it too, unless limits.allow_velocity_jumps is true.
         """
-        dynamics = self.dynamics_check
+        dynamics, vibration = self.dynamics_check, self.vibration_check
         return (self.check.ok and (dynamics is None or dynamics.ok)
+                and (vibration is None or not vibration.leaves_cam)
                 and (self.config.allow_velocity_jumps or not self.velocity_jumps))
 
     def warnings(self) -> list[str]:
@@ -163,6 +188,7 @@ class CamDesign:
                              f'{math.degrees(jump.angle):.2f} deg'
                              + _VELOCITY_JUMP_NOTE[jump.order == 1
                                                    and not self.config.allow_velocity_jumps])
+        notes += self._vibration_warnings()
         dynamics = self.dynamics_check
         if dynamics is None:
             return notes
@@ -178,6 +204,26 @@ class CamDesign:
                          if math.isnan(dynamics.contact_stress_max) else
                          f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
                          f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
+        return notes
+
+    def _vibration_warnings(self) -> list[str]:
+        """Say when the rigid model does not hold (VDI 2149) and when the output lifts off."""
+        vibration, notes = self.vibration_check, list[str]()
+        if vibration is None:
+            return notes
+        if not vibration.rigid_ok:
+            notes.append(f'the follower train\'s natural frequency '
+                         f'{vibration.natural_frequency_hz:.6g} Hz is only '
+                         f'{vibration.frequency_ratio:.3g} times the cam frequency: VDI 2149 '
+                         f'asks for {RIGID_RATIO:g} or more for a rigid-body analysis (see the '
+                         'vibration figures)')
+        if vibration.leaves_cam:
+            notes.append(f'with the elastic train the follower leaves the cam at '
+                         f'{cam_degrees(cast(float, vibration.elastic_force_min_at), 1):.1f} deg '
+                         f'({self.config.cam_speed:.6g} rad/s): the force falls to '
+                         f'{vibration.elastic_force_min:.6g} '
+                         + ('N m' if self.config.follower.type.startswith('oscillating')
+                            else 'N'))
         return notes
 
     def summary(self) -> str:

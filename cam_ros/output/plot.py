@@ -193,7 +193,7 @@ def _follower_lines(design: CamDesign, angle: float, turn: np.ndarray) -> dict:
     """Return the follower's drawing at cam angle (rad) in the fixed frame, in mm."""
     follower = design.follower
     theta = np.array([angle])
-    motion = design.program.evaluate(theta)
+    motion = design.surface.evaluate(theta)  # the roller touches the cam: its input y
     shape = cam_geometry(follower, theta, motion.s, motion.ds, motion.d2s,
                          clockwise=design.clockwise)
     reference = turn @ np.array([shape.pitch_x[0], shape.pitch_y[0]]) * MM_PER_M

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 import shutil
+import struct
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -139,3 +140,10 @@ def seed_000_roller(theta: np.ndarray, base_radius: float = BASE_RADIUS
     pitch = np.hypot(along, across) ** 3 / (
         along ** 2 + across * (2 * v - SIGMA * OFFSET) - a * along)
     return np.arctan2(across, along), pitch - ROLLER_RADIUS
+
+
+def png_size(data: bytes) -> tuple[int, int]:
+    """Return (width, height) from a PNG's IHDR chunk."""
+    assert data[:8] == b'\x89PNG\r\n\x1a\n'
+    assert data[12:16] == b'IHDR'
+    return struct.unpack('>II', data[16:24])

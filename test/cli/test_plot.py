@@ -2,18 +2,16 @@
 from __future__ import annotations
 
 import math
-import struct
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
-from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, FOLLOWERS,
-                         run_cli, SHIPPED_CONFIGS, write_config)
+from cli_support import (assert_one_error_line, CONFIG_DIR, DEFAULT_CONFIG, follower_config,
+                         FOLLOWERS, png_size, run_cli, SHIPPED_CONFIGS, write_config)
 
 from cam_ros.commands.common import load_design
 from cam_ros.output.plot import _follower_lines, _rotation, design_figure, DPI, FIGURE_SIZE_IN
 
-PNG_SIGNATURE = b'\x89PNG\r\n\x1a\n'
 DRAWING_TOLERANCE_MM = 1e-9
 ANGLES_DEG = (0.0, 45.0, 130.0, 200.0, 300.0)
 DENSE_SAMPLES = 3600  # a multiple of 360: the drawn angles are among the samples
@@ -23,13 +21,6 @@ SAMPLE_GAP_MM = 1e-6
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Return the z component of the cross product of 2-D vectors (arrays of shape (2, ...))."""
     return a[0] * b[1] - a[1] * b[0]
-
-
-def png_size(data: bytes) -> tuple[int, int]:
-    """Return (width, height) from a PNG's IHDR chunk."""
-    assert data[:8] == PNG_SIGNATURE
-    assert data[12:16] == b'IHDR'
-    return struct.unpack('>II', data[16:24])
 
 
 def test_png_has_the_documented_size(tmp_path, capsys):
@@ -167,3 +158,14 @@ def test_svaj_are_in_the_config_unit_with_joints_named_and_a_velocity_jump_drawn
     # dwells with zero acceleration, so no acceleration jump is marked on the jerk diagram.
     assert marks(acceleration, 'velocity') == pytest.approx([90.0, 180.0])
     assert marks(jerk, 'acceleration') == []
+
+
+def test_the_follower_of_a_polydyne_cam_is_drawn_on_the_compensated_cam():
+    design = load_design(CONFIG_DIR / 'polydyne.yaml')
+    angle = math.radians(50.0)  # mid-rise, where the train's deflection y - s is largest
+    lines = _follower_lines(design, angle, _rotation(angle))  # counter-clockwise
+    geometry = design.geometry(360)
+    contact = _rotation(angle) @ np.array([geometry.surface_x[50], geometry.surface_y[50]])
+    np.testing.assert_allclose(lines['contact'], contact * 1000.0, atol=DRAWING_TOLERANCE_MM)
+    lift = design.surface.evaluate(angle).s - design.program.evaluate(angle).s
+    assert abs(lift) > 1e-4  # m: the drawing would miss the cam if it used s

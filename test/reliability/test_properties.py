@@ -24,7 +24,8 @@ from cam_ros.core import (build_design, LAWS, make_law, parse_parameters, size_b
 #: where two segments meet, s and its derivatives up to min(k_left, k_right) are continuous.
 REST_ORDER = {
     'dwell': 3, 'constant_velocity': 0, 'constant_acceleration': 1, 'simple_harmonic': 1,
-    'cycloidal': 2, 'polynomial_345': 2, 'polynomial_4567': 3, 'modified_trapezoid': 2,
+    'cycloidal': 2, 'polynomial_345': 2, 'polynomial_4567': 3, 'polynomial_9': 3,
+    'modified_trapezoid': 2,
     'modified_sine': 2, 'polynomial': 2, 'table': 2, 'via_point': 2,
     'scca': 2,  # with b > 0; b = 0 starts and ends at full acceleration (order 1)
 }
@@ -37,6 +38,7 @@ END_VALUES = {
     'cycloidal': ((0.0, 0.0, 4 * PI ** 2), (0.0, 0.0, 4 * PI ** 2)),
     'polynomial_345': ((0.0, 0.0, 60.0), (0.0, 0.0, 60.0)),
     'polynomial_4567': ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    'polynomial_9': ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)),
 }
 #: y(0), y(1) and the end derivatives written above (relative); a law solved from conditions
 #: (polynomial) is exact to its linear solve, like its own END_TOLERANCE.

@@ -29,6 +29,7 @@ from typing import Any, Mapping
 
 from ..dynamics.contact import STEEL_MODULUS, STEEL_POISSON
 from ..dynamics.follower import DynamicsConfig, parse_dynamics
+from ..dynamics.vibration import parse_train, TrainConfig
 from ..errors import did_you_mean, InvalidParameter
 # The file side of the format (safe YAML reading, node sections) lives in params_file; these
 # names stay importable from here.
@@ -143,6 +144,16 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        maximum=1e9),
     _p('dynamics.jump_safety_factor', 'double', 1.5, 'Factor on the separating force for the '
        'needed spring preload', minimum=1.0, maximum=100.0),
+    _p('dynamics.train_natural_frequency', 'double', 0.0, 'Lowest natural frequency of the '
+       'follower train, cam side held (0: rigid train)', unit='Hz', minimum=0.0, maximum=1e6),
+    _p('dynamics.train_stiffness', 'double', 0.0, 'Stiffness of the follower train, instead of '
+       'its natural frequency (with dynamics.mass or arm_inertia)', unit='N/m|N m/rad',
+       minimum=0.0, maximum=1e15),
+    _p('dynamics.train_damping_ratio', 'double', 0.05, 'Damping ratio of the follower train',
+       minimum=0.0, maximum=10.0),
+    _p('dynamics.compensate', 'bool', False, 'Shape the cam so that the elastic train outputs '
+       'the designed motion at cam_speed (polydyne; needs laws continuous to the 4th '
+       'derivative)'),
     _p('contact.face_width', 'double', 0.0, 'Contact length along the camshaft (the narrower '
        'face); needed with dynamics', unit='length_unit', minimum=0.0),
     _p('contact.cam_modulus', 'double', STEEL_MODULUS, 'Young\'s modulus of the cam', unit='Pa',
@@ -247,6 +258,7 @@ class CamConfig:
     recording_directory: str
     recording_compression: str
     dynamics: DynamicsConfig | None  # None: the file gives no dynamics.mass / arm_inertia
+    train: TrainConfig | None  # None: a rigid follower train (no natural frequency given)
     parameters: Mapping[str, Any]  # the flat values as written, for reports and recordings
 
 
@@ -367,6 +379,9 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         recording_directory=values['recording.directory'],
         recording_compression=values['recording.compression'],
         dynamics=parse_dynamics(values, metre, values['follower.type']),
+        train=parse_train(values, *((values['dynamics.arm_inertia'], 'dynamics.arm_inertia')
+                                    if oscillating else (values['dynamics.mass'],
+                                                         'dynamics.mass'))),
         parameters=dict(values),
     )
 

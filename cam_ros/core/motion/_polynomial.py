@@ -148,3 +148,16 @@ class Polynomial4567(PolynomialLaw):
     name: ClassVar[str] = 'polynomial_4567'
     coefficients: tuple[float, ...] = field(
         default=(0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0), init=False)
+
+
+@dataclass(frozen=True)
+class Polynomial9(PolynomialLaw):
+    """9th-order rest-to-rest polynomial: y = 126u^5 - 420u^6 + 540u^7 - 315u^8 + 70u^9.
+
+    y', y'', y''' and y'''' vanish at both ends: the law polydyne compensation needs, since the
+    compensated cam's acceleration contains the motion's 4th derivative.
+    """
+
+    name: ClassVar[str] = 'polynomial_9'
+    coefficients: tuple[float, ...] = field(
+        default=(0.0, 0.0, 0.0, 0.0, 0.0, 126.0, -420.0, 540.0, -315.0, 70.0), init=False)

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..arrays import FloatArray
 from ._law_base import full_like, InPlaceLaw, LawValues, MotionLaw
-from ._polynomial import Condition, Polynomial345, Polynomial4567, PolynomialLaw
+from ._polynomial import Condition, Polynomial345, Polynomial4567, Polynomial9, PolynomialLaw
 from ._sine_acceleration import ModifiedSine, ModifiedTrapezoid, SccaLaw, ViaPointLaw
 from ..errors import did_you_mean, InvalidParameter
 
@@ -28,7 +28,8 @@ if TYPE_CHECKING:
 __all__ = [
     'ConstantAcceleration', 'ConstantVelocity', 'Cycloidal', 'Dwell', 'LAWS', 'LawValues',
     'make_law', 'ModifiedSine', 'ModifiedTrapezoid', 'MotionLaw', 'Polynomial345',
-    'Polynomial4567', 'PolynomialLaw', 'SccaLaw', 'SimpleHarmonic', 'TableLaw', 'ViaPointLaw',
+    'Polynomial4567', 'Polynomial9', 'PolynomialLaw', 'SccaLaw', 'SimpleHarmonic', 'TableLaw',
+    'ViaPointLaw',
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -196,6 +197,7 @@ LAWS: Mapping[str, Callable[..., MotionLaw]] = MappingProxyType({
     'cycloidal': Cycloidal,
     'polynomial_345': Polynomial345,
     'polynomial_4567': Polynomial4567,
+    'polynomial_9': Polynomial9,
     'modified_trapezoid': ModifiedTrapezoid,
     'modified_sine': ModifiedSine,
     'scca': SccaLaw,
