@@ -21,7 +21,8 @@ TINY = Sizes(
     ecam=EcamSizes(seconds=0.5, warmup_seconds=0.2))
 FIGURES = {
     'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
-    'design_geometry_ms', 'design_report_ms', 'design_evaluate_dynamics_ms', 'design_report_vibration_ms',
+    'design_geometry_ms', 'design_report_ms', 'design_evaluate_dynamics_ms',
+    'design_report_vibration_ms',
     'service_dynamics_p50_ms',
     'service_p50_ms', 'service_p99_ms', 'batch_100_ms', 'batch_1000_ms',
     'startup_s', 'node_peak_rss_mib', 'node_peak_rss_batch_1000_mib', 'recorder_messages_per_s',
@@ -31,7 +32,8 @@ FIGURE_FIELDS = {'key', 'name', 'value', 'unit', 'reference', 'reference_value',
                  'inverse', 'extra', 'ratio', 'met'}
 TARGETED = {'service_p50_ms', 'design_report_ms', 'recorder_messages_per_s',
             'recording_publish_overhead',
-            'design_evaluate_dynamics_ms', 'design_report_vibration_ms', 'service_dynamics_p50_ms', 'ecam_latency_p50_ms',
+            'design_evaluate_dynamics_ms', 'design_report_vibration_ms', 'service_dynamics_p50_ms',
+            'ecam_latency_p50_ms',
             'ecam_latency_p99_ms'}
 
 
