@@ -107,13 +107,13 @@ def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
 def design_report(design: CamDesign) -> DesignReport:
     """Compute the report of a design (its refined check plus the base-radius sizing)."""
     theta = np.linspace(0.0, 2.0 * math.pi, CHECK_SAMPLES, endpoint=False)
-    motion = design.program.evaluate(theta)
+    motion = design.surface.evaluate(theta)  # the cam's own motion (polydyne: compensated)
     check = design.check
     sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
                               clockwise=design.clockwise,
                               max_pressure_angle=design.config.pressure_angle_limit,
                               min_radius=design.config.min_radius_of_curvature,
-                              program=design.program)
+                              program=design.surface)
     face = None if check.face_min is None or check.face_max is None \
         else (check.face_min, check.face_max)
     return DesignReport(

@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from cam_ros.core import build_design, InvalidParameter, parse_parameters
+from cam_ros.core import build_design, InvalidParameter, parse_parameters, size_base_radius
 from cam_ros.core.geometry.cam_geometry import contact_measures
+from cam_ros.core.report import design_report
 
 STROKE_CM = 2.0
 #: A polydyne machine cam: 9th-order rise and return with dwells, 300 rpm, a 40 Hz train.
@@ -118,3 +119,18 @@ def test_compensation_needs_a_train():
     with pytest.raises(InvalidParameter, match='dynamics.train_natural_frequency') as caught:
         parse_parameters(values)
     assert caught.value.parameter == 'dynamics.compensate'
+
+
+def test_the_base_radius_is_sized_for_the_compensated_cam():
+    cam = design()
+    theta = np.linspace(0.0, 2.0 * math.pi, 7200, endpoint=False)
+    y = cam.surface.evaluate(theta)
+    limits = dict(clockwise=False, max_pressure_angle=cam.config.pressure_angle_limit,
+                  min_radius=cam.config.min_radius_of_curvature)
+    expected = size_base_radius(cam.follower, theta, y.s, y.ds, y.d2s, program=cam.surface,
+                                **limits).base_radius
+    assert design_report(cam).min_base_radius == pytest.approx(expected, rel=1e-12)
+    s = cam.program.evaluate(theta)
+    rigid = size_base_radius(cam.follower, theta, s.s, s.ds, s.d2s, program=cam.program,
+                             **limits).base_radius
+    assert abs(expected - rigid) > 1e-4  # m: sizing the designed motion would be another cam
