@@ -188,3 +188,17 @@ def test_the_vibration_report_takes_any_program_and_speed():
     slow = vibration_report(design.program, math.pi, design.config.train)
     assert slow.frequency_ratio == pytest.approx(12.0) and slow.rigid_ok
     assert [s.r for s in slow.segments] == pytest.approx([3.0, 4.0])
+
+
+def test_the_series_anywhere_reproduces_the_inverse_fft_on_the_grid():
+    design = build_design(parse_parameters(DESIGN))
+    response = periodic_response(design.program, design.config.cam_speed, design.config.train)
+    every = slice(None, None, 97)
+    for order, grid in enumerate((response.output, response.output_velocity,
+                                  response.output_acceleration)):
+        scale = float(np.max(np.abs(grid)))
+        np.testing.assert_allclose(response.at(response.angle[every], order), grid[every],
+                                   rtol=0.0, atol=1e-13 * scale)
+    # Periodic in the cam angle, for angles outside [0, 2 pi) too.
+    np.testing.assert_allclose(response.at(response.angle[every] - 4.0 * math.pi),
+                               response.output[every], rtol=0.0, atol=1e-12 * 0.02)

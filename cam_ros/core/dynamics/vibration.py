@@ -29,6 +29,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..arrays import FloatArray
+from ..extremes import refine_extrema
 from ..errors import InvalidParameter
 from ..motion.laws import MotionLaw
 from ..motion.program import MotionProgram
@@ -43,8 +44,9 @@ PANELS_PER_CYCLE = 2
 SLOPE_TOLERANCE = 1e-12
 #: Samples of the cam motion per revolution for the periodic response (a power of two).
 RESPONSE_SAMPLES = 2 ** 14
-#: Angles per block when the Fourier series is evaluated at arbitrary angles (bounds memory).
-AT_CHUNK = 64
+#: Harmonics per block when the Fourier series is evaluated at arbitrary angles: e^(ik theta)
+#: is e^(i m theta) e^(i B j theta), k = B j + m, so only 2 sqrt(K) exponentials per angle.
+HARMONIC_BLOCK = 64
 
 
 @dataclass(frozen=True)
@@ -174,10 +176,13 @@ class PeriodicResponse:
         k = np.arange(self.coefficients.size)
         factor = (1j * k * self.omega) ** derivative * self.coefficients
         factor[1:] *= 2.0  # the negative harmonics: real signal
+        blocks = -(-factor.size // HARMONIC_BLOCK)
+        factor = np.resize(factor, blocks * HARMONIC_BLOCK)
+        factor[self.coefficients.size:] = 0.0
         flat = angles.reshape(-1)
-        values = np.concatenate([
-            np.real(np.exp(1j * np.multiply.outer(flat[start:start + AT_CHUNK], k)) @ factor)
-            for start in range(0, max(flat.size, 1), AT_CHUNK)])[:flat.size]
+        low = np.exp(1j * np.multiply.outer(flat, np.arange(HARMONIC_BLOCK)))
+        high = np.exp(1j * np.multiply.outer(flat, HARMONIC_BLOCK * np.arange(blocks)))
+        values = np.real(np.sum(high * (low @ factor.reshape(blocks, HARMONIC_BLOCK).T), axis=1))
         return (values / self.angle.size).reshape(angles.shape)
 
 
@@ -201,21 +206,6 @@ def periodic_response(program: MotionProgram, omega: float, train: TrainConfig,
     return PeriodicResponse(omega, angle, s, output, velocity, acceleration, coefficients)
 
 
-def refined_peak(response: PeriodicResponse, values: FloatArray,
-                 function: Any) -> tuple[float, float]:
-    """Return (|value|, angle) of the largest |values|, refined on the series, not the grid."""
-    from scipy.optimize import minimize_scalar  # here: scipy costs start-up
-    index = int(np.argmax(np.abs(values)))
-    step = 2.0 * math.pi / values.size
-    centre = response.angle[index]
-    result = minimize_scalar(lambda t: -abs(float(function(t))), method='bounded',
-                             bounds=(centre - step, centre + step),
-                             options={'xatol': 1e-12 * (1.0 + abs(centre))})
-    best = max(abs(float(values[index])), -float(result.fun))
-    at = float(result.x) if -float(result.fun) >= abs(float(values[index])) else float(centre)
-    return best, at % (2.0 * math.pi)
-
-
 @dataclass(frozen=True)
 class VibrationReport:
     """The elastic train at the cam speed omega (SI; angles rad; positions m or rad).
@@ -225,7 +215,7 @@ class VibrationReport:
     from the damped periodic response: the largest |x - s|, the largest |x''| against the rigid
     cam's largest |s''|, and with a dynamics model the least follower force Q with the output's
     acceleration (< 0: the follower leaves the cam; None without a model). Extremes are refined
-    on the exact Fourier series, not read off the grid.
+    on the exact Fourier series by extremes.refine_extrema, not read off the grid.
     """
 
     natural_frequency_hz: float
@@ -257,33 +247,27 @@ def vibration_report(program: MotionProgram, omega: float, train: TrainConfig,
     model is the design's FollowerDynamics (or None): its follower_force(s, ds, d2s) gives the
     force with the output's acceleration in place of the rigid one.
     """
-    from scipy.optimize import minimize_scalar  # here: scipy costs start-up
-
     target = program if output is None else output
     response = periodic_response(program, omega, train)
     designed = target.evaluate(response.angle)
-    deviation, deviation_at = refined_peak(
-        response, response.output - designed.s,
-        lambda t: response.at(t) - target.evaluate(t).s)
-    acceleration, acceleration_at = refined_peak(response, response.output_acceleration,
-                                                 lambda t: response.at(t, 2))
-    rigid = max(summary.peaks_at_speed(omega)[1] for summary in target.segment_summary())
-    force_min = force_min_at = None
-    if model is not None:
-        def force(theta: npt.ArrayLike) -> FloatArray:
-            at = target.evaluate(theta)
-            return model.follower_force(at.s, at.ds, response.at(theta, 2) / omega ** 2)[0]
 
-        grid = model.follower_force(designed.s, designed.ds,
-                                    response.output_acceleration / omega ** 2)[0]
-        index = int(np.argmin(grid))
-        step = 2.0 * math.pi / grid.size
-        found = minimize_scalar(lambda t: float(force(t)), method='bounded',
-                                bounds=(response.angle[index] - step,
-                                        response.angle[index] + step))
-        force_min, force_min_at = min((float(found.fun), float(found.x)),
-                                      (float(grid[index]), float(response.angle[index])))
-        force_min_at %= 2.0 * math.pi
+    def measures(theta: FloatArray) -> FloatArray:
+        """|x - s|, |x''| and (with a model) the follower force Q at cam angles."""
+        at, acceleration = target.evaluate(theta), response.at(theta, 2)
+        rows = [np.abs(response.at(theta) - at.s), np.abs(acceleration)]
+        if model is not None:
+            rows.append(model.follower_force(at.s, at.ds, acceleration / omega ** 2)[0])
+        return np.array(rows)
+
+    grid = [np.abs(response.output - designed.s), np.abs(response.output_acceleration)]
+    if model is not None:
+        grid.append(model.follower_force(designed.s, designed.ds,
+                                         response.output_acceleration / omega ** 2)[0])
+    (deviation, deviation_at), (acceleration, acceleration_at), *force = refine_extrema(
+        measures, response.angle, np.array(grid), ('max', 'max', 'min')[:len(grid)],
+        breaks=np.union1d(program.breaks, target.breaks))
+    force_min, force_min_at = force[0] if force else (None, None)
+    rigid = max(summary.peaks_at_speed(omega)[1] for summary in target.segment_summary())
     ratio = train.natural_frequency / (omega / (2.0 * math.pi))
     return VibrationReport(
         natural_frequency_hz=train.natural_frequency, damping_ratio=train.damping_ratio,
