@@ -13,7 +13,7 @@ from cam_ros.commands.common import (dump_json, DYNAMICS_FIELDS, end_progress, f
                                      writing)
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import CamDesign, InvalidParameter
-from cam_ros.core.report import design_report, file_position_unit, position_unit
+from cam_ros.core.report import design_report
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 
 #: Points of `export --cam-table` without --points or --tolerance: one per degree.
@@ -56,7 +56,7 @@ def sample_angles(step_deg: float) -> np.ndarray:
 
 def sample_units(design: CamDesign) -> dict[str, str]:
     """Return the unit of each sampled array for this design's follower (and dynamics)."""
-    unit = position_unit(design)
+    unit = design.config.position_unit
     fields = SAMPLE_FIELDS + (DYNAMICS_FIELDS if design.dynamics else ())
     return {name: template.format(p=unit) for name, _, template in fields}
 
@@ -148,7 +148,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     if tolerance is not None:
         split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
     design = load_design(config)
-    unit, factor = file_position_unit(design)
+    unit, factor = design.config.file_position_unit
     limit = None if tolerance is None else _table_tolerance(tolerance, design)
     try:
         table = (tolerance_table(design.program, limit, interpolation, unit=(unit, factor))
@@ -174,11 +174,11 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
 
 
 def _table_tolerance(text: str, design: CamDesign) -> float:
-    """Return --tolerance in SI: a bare number is in the table's unit (see file_position_unit)."""
+    """Return --tolerance in SI: a bare number is in the table's unit (file_position_unit)."""
     from cam_ros.core.config.quantity import typed_quantity
 
     value = typed_quantity('--tolerance', text, design.config.length_unit,
-                           angular=design.config.follower.type.startswith('oscillating'))
+                           angular=design.config.oscillating)
     if value <= 0.0:
         raise InvalidParameter('--tolerance', text, 'must be > 0')
     return value

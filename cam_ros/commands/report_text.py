@@ -12,7 +12,7 @@ from cam_ros.core import CamDesign
 from cam_ros.core.design import cam_degrees
 from cam_ros.core.dynamics.report import DynamicsReport
 from cam_ros.core.dynamics.vibration import VibrationReport
-from cam_ros.core.report import DesignReport, position_unit
+from cam_ros.core.report import DesignReport
 
 PEAK_KEYS = ('peak_velocity', 'peak_acceleration', 'peak_jerk')
 ORDER_NAMES = ('s', 'ds/dtheta', 'd2s/dtheta2', 'd3s/dtheta3')  # derivatives per rad of cam
@@ -22,7 +22,7 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
     """Return the report as the JSON object `cam_ros report --json` prints (SI, angles deg)."""
     design = report.design
     cfg = design.config
-    unit = position_unit(design)
+    unit = design.config.position_unit
     estimate = report.quick_estimate
     omega = cfg.cam_speed
     return {
@@ -128,7 +128,7 @@ def _vibration_rows(report: DesignReport) -> list[tuple[str, str]]:
     v, design = report.design.vibration_check, report.design
     if v is None:
         return []
-    unit = position_unit(design)
+    unit = design.config.position_unit
     rows = [('Vibration', f'train {number(v.natural_frequency_hz)} Hz, damping '
                           f'{number(v.damping_ratio)} of critical: {v.frequency_ratio:.3g} x the '
                           'cam frequency ('
@@ -148,7 +148,7 @@ def _vibration_rows(report: DesignReport) -> list[tuple[str, str]]:
                      f'{cam_degrees(v.peak_output_acceleration_at, 1):.1f} deg (rigid '
                      f'{number(v.peak_rigid_acceleration)})'))
     if v.elastic_force_min is not None:
-        force = 'N m' if unit == 'rad' else 'N'
+        force = 'N m' if design.config.oscillating else 'N'
         rows.append(('', f'least follower force with the output\'s acceleration '
                          f'{number(v.elastic_force_min)} {force} at '
                          f'{cam_degrees(v.elastic_force_min_at or 0.0, 1):.1f} deg: '
@@ -169,7 +169,7 @@ def _follower_line(design: CamDesign) -> str:
 
 
 def _segment_table(report: DesignReport) -> str:
-    unit, omega = position_unit(report.design), report.design.config.cam_speed
+    unit, omega = report.design.config.position_unit, report.design.config.cam_speed
     headers = ('#', 'law', 'start deg', 'end deg', f'from {unit}', f'to {unit}', 'Cv', 'Ca',
                'Cj', f'peak v {unit}/s', f'peak a {unit}/s^2', f'peak j {unit}/s^3')
     rows = [(str(s.index), s.law, f'{math.degrees(s.start):.2f}', f'{math.degrees(s.end):.2f}',
@@ -180,7 +180,7 @@ def _segment_table(report: DesignReport) -> str:
 
 
 def _continuity_table(report: DesignReport) -> str:
-    unit = position_unit(report.design)
+    unit = report.design.config.position_unit
     if not report.continuity:
         return '  none: s and its first three derivatives are continuous'
     rows = [(f'{cam_degrees(j.angle, 2):.2f}', ORDER_NAMES[j.order], number(j.left),
@@ -196,7 +196,7 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
     if d is None or design.dynamics is None:
         return []
     config, omega = design.dynamics.config, design.config.cam_speed
-    oscillating = position_unit(design) == 'rad'
+    oscillating = design.config.oscillating
     force, rate, inertia = ('N m', 'N m/rad', 'kg m^2') if oscillating else ('N', 'N/m', 'kg')
     stays = ('LEAVES the cam at ' + ', '.join(
         f'{cam_degrees(a, 1):.1f}-{cam_degrees(b, 1, end=True):.1f}'

@@ -164,7 +164,7 @@ class CamDesign:
             where = np.degrees(check.undercut_angles)
             notes.append(f'the cam surface is undercut between {where.min():.1f} and '
                          f'{where.max():.1f} deg')
-        unit = 'rad' if self.config.follower.type.startswith('oscillating') else 'm'
+        unit = self.config.position_unit
         for jump in self.program.continuity_report():
             if jump.order <= 2:
                 name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
@@ -206,8 +206,7 @@ class CamDesign:
                          f'{cam_degrees(cast(float, vibration.elastic_force_min_at), 1):.1f} deg '
                          f'({self.config.cam_speed:.6g} rad/s): the force falls to '
                          f'{vibration.elastic_force_min:.6g} '
-                         + ('N m' if self.config.follower.type.startswith('oscillating')
-                            else 'N'))
+                         + ('N m' if self.config.oscillating else 'N'))
         return notes
 
     def summary(self) -> str:
@@ -291,8 +290,8 @@ def _at_cam_angle(err: InvalidParameter, program: MotionProgram,
     index = program.segment_at(angle)
     value = err.value
     if match.group(1) == 's' and isinstance(value, float):
-        oscillating = config.follower.type.startswith('oscillating')
-        value = math.degrees(value) if oscillating else value / LENGTH_UNITS[config.length_unit]
+        value = (math.degrees(value) if config.oscillating
+                 else value / LENGTH_UNITS[config.length_unit])
     return InvalidParameter(f'motion.laws[{index}] ({program.segments[index].law.name}): '
                             f'{match.group(1)} at {math.degrees(angle):.2f} deg', value,
                             in_file_units(err.rule, config))

@@ -13,7 +13,6 @@ from typing import Optional
 
 import numpy as np
 
-from .config.schema import LENGTH_UNITS
 from .design import CamDesign
 from .extremes import CHECK_SAMPLES
 from .dynamics.report import DynamicsReport
@@ -72,22 +71,6 @@ class DesignReport:
     def ok(self) -> bool:
         """Return True when the design meets its limits, is not undercut and does not jump."""
         return self.design.ok
-
-
-def position_unit(design: CamDesign) -> str:
-    """Return the unit of the follower position: 'm', or 'rad' for oscillating followers."""
-    return 'rad' if design.config.follower.type.startswith('oscillating') else 'm'
-
-
-def file_position_unit(design: CamDesign) -> tuple[str, float]:
-    """Return the unit the config writes follower positions in and its factor from SI.
-
-    The config's length_unit for translating followers, deg of arm angle for oscillating ones.
-    """
-    if design.config.follower.type.startswith('oscillating'):
-        return 'deg', 180.0 / math.pi
-    unit = design.config.length_unit
-    return unit, 1.0 / LENGTH_UNITS[unit]
 
 
 def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:

@@ -29,7 +29,7 @@ def joint_coordinates(design: CamDesign) -> JointCoordinates:
     """Return how the design's cam angle and follower motion map to the published joints."""
     sigma = -1.0 if design.clockwise else 1.0
     follower = design.config.follower
-    if not follower.type.startswith('oscillating'):
+    if not design.config.oscillating:
         return JointCoordinates(sigma, 0.0, 1.0)
     lam = sigma if follower.arm_turns_with_cam else -sigma
     psi0 = design.follower.initial_arm_angle  # type: ignore[union-attr]

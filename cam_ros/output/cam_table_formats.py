@@ -17,7 +17,6 @@ import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.ecam.cam_table import CamTable
-from cam_ros.core.report import file_position_unit
 
 DEGREE = math.pi / 180.0
 #: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).
@@ -102,7 +101,7 @@ def check_options(name: str, interpolation: str, derivatives: bool) -> bool:
 def table_columns(table: CamTable, design: CamDesign,
                   derivatives: bool) -> tuple[list[str], np.ndarray]:
     """Return the column names (with units) and values of a table, in the file's units."""
-    unit, factor = file_position_unit(design)
+    unit, factor = design.config.file_position_unit
     names = ['master_deg', f'slave_{unit}']
     columns = [table.master_deg, table.position * factor]
     if derivatives:
@@ -114,7 +113,7 @@ def table_columns(table: CamTable, design: CamDesign,
 def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point: bool,
            derivatives: bool) -> list[str]:
     """Return the header lines: what the table is, what it assumes, how exact it is."""
-    unit, factor = file_position_unit(design)
+    unit, factor = design.config.file_position_unit
     steps = len(table.master_deg) - 1
     spacing = (f'placed for {table.interpolation} interpolation within a tolerance of '
                f'{table.tolerance * factor:.6g} {unit} (greedy; segment boundaries are '
@@ -144,7 +143,7 @@ def cam_table_text(table: CamTable, design: CamDesign, name: str, source: str,
     if not end_point:
         values = values[:-1]
     if target.max_points and len(values) > target.max_points:
-        unit, factor = file_position_unit(design)
+        unit, factor = design.config.file_position_unit
         option, value = (('--points', len(values) - end_point) if table.tolerance is None
                          else ('--tolerance', f'{number(table.tolerance * factor)} {unit}'))
         raise InvalidParameter(option, value, f'gives {len(values)} points; --format {name} '

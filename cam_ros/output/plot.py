@@ -22,7 +22,6 @@ import numpy as np
 from cam_ros.core import (CamDesign, CamState, InvalidParameter, OscillatingFlat,
                           OscillatingRoller, TranslatingRoller, cam_geometry)
 from cam_ros.core.config.schema import LENGTH_UNITS
-from cam_ros.core.report import file_position_unit, position_unit
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -89,7 +88,7 @@ def _diagrams(design: CamDesign, axes: list[Axes], state: CamState, angle: float
     Law names label the joints; a velocity jump is marked on the acceleration diagram and an
     acceleration jump on the jerk diagram (each is an unbounded value of that derivative).
     """
-    unit, factor = file_position_unit(design)
+    unit, factor = design.config.file_position_unit
     rows = ((state.position, f'position ({unit})', 'tab:blue'),
             (state.velocity, f'velocity ({unit}/s)', 'tab:green'),
             (state.acceleration, f'acceleration ({unit}/s²)', 'tab:red'),
@@ -153,7 +152,7 @@ def _dynamics_panels(design: CamDesign, axes: list[Axes], state: CamState,
     force_ax, torque_ax, stress_ax = axes
     force_ax.plot(degrees, forces.contact_force, color='tab:blue', linewidth=1.2,
                   label='contact force')
-    if position_unit(design) == 'm':  # an oscillating arm's spring gives a moment (N m)
+    if not design.config.oscillating:  # an oscillating arm's spring gives a moment (N m)
         force_ax.plot(degrees, forces.spring_force, color='tab:gray', linewidth=1.0,
                       label='spring force')
     leaves = forces.contact_force < 0.0

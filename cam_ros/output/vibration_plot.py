@@ -15,7 +15,6 @@ import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.dynamics.vibration import periodic_response, residual_ratio
-from cam_ros.core.report import file_position_unit
 from cam_ros.output.plot import DPI, FORMATS
 
 if TYPE_CHECKING:
@@ -65,7 +64,7 @@ def _output_panel(design: CamDesign, ax: Axes) -> None:
     """Plot the periodic output x against s (and the compensated cam y) over cam angle."""
     train, omega = design.config.train, design.config.cam_speed
     assert train is not None
-    unit, factor = file_position_unit(design)
+    unit, factor = design.config.file_position_unit
     response = periodic_response(design.surface, omega, train)
     degrees = np.degrees(response.angle)
     designed = design.program.evaluate(response.angle).s

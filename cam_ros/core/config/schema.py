@@ -261,6 +261,26 @@ class CamConfig:
     train: TrainConfig | None  # None: a rigid follower train (no natural frequency given)
     parameters: Mapping[str, Any]  # the flat values as written, for reports and recordings
 
+    @property
+    def oscillating(self) -> bool:
+        """True for an oscillating follower: positions are arm angles (rad), not lengths."""
+        return self.follower.type.startswith('oscillating')
+
+    @property
+    def position_unit(self) -> str:
+        """Return the SI unit of the follower position: 'm', or 'rad' for an arm."""
+        return 'rad' if self.oscillating else 'm'
+
+    @property
+    def file_position_unit(self) -> tuple[str, float]:
+        """Return the unit the file writes follower positions in and its factor from SI.
+
+        The file's length_unit for translating followers, deg of arm angle for oscillating ones.
+        """
+        if self.oscillating:
+            return 'deg', 180.0 / math.pi
+        return self.length_unit, 1.0 / LENGTH_UNITS[self.length_unit]
+
 
 def _check_type(spec: ParameterSpec, value: Any) -> Any:
     """Return value if it has the spec's ROS type (as rclpy judges it), else raise."""

@@ -117,8 +117,7 @@ class MasterConfig:
     def from_config(cls, config: CamConfig) -> 'MasterConfig':
         """Read the (already checked) parameters of a CamConfig."""
         values: Mapping[str, Any] = config.parameters
-        oscillating = config.follower.type.startswith('oscillating')
-        slave_unit = math.radians(1.0) if oscillating else LENGTH_UNITS[config.length_unit]
+        slave_unit = math.radians(1.0) if config.oscillating else LENGTH_UNITS[config.length_unit]
         mapping = CamMapping(math.radians(values['master.offset_deg']), values['master.scaling'],
                              values['slave.offset'] * slave_unit, values['slave.scaling'])
         return cls(values['master.source'], values['master.topic'], values['master.joint'],
