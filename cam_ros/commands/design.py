@@ -91,14 +91,12 @@ def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
 def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = False) -> int:
     """Draw S-V-A-J diagrams and the cam at angle_deg (or the vibration figures) to a file."""
     from cam_ros.output.plot import FORMATS, plot_design
-    from cam_ros.output.vibration_plot import NO_TRAIN, plot_vibration
+    from cam_ros.output.vibration_plot import plot_vibration
 
     target = output_path('-o', output, FORMATS)
     if not math.isfinite(angle_deg):
         raise InvalidParameter('--angle-deg', angle_deg, 'must be a finite angle (deg)')
     design = load_design(config)
-    if vibration and design.config.train is None:
-        raise InvalidParameter('--vibration', True, NO_TRAIN)
     with writing('plot', f'drawing {target}', target):
         if vibration:
             plot_vibration(design, target, title=Path(config).name)

@@ -101,8 +101,9 @@ def _diagrams(design: CamDesign, axes: list[Axes], state: CamState, angle: float
         axes[0].text(math.degrees(segment.start) % 360.0 + 1.0, 0.97, segment.law.name,
                      transform=axes[0].get_xaxis_transform(), rotation=90, fontsize=7,
                      va='top', color='0.3', bbox={'color': 'white', 'alpha': 0.7, 'pad': 1})
+    continuity = design.program.continuity_report()
     for order, name in ((1, 'velocity'), (2, 'acceleration')):
-        jumps = [jump.angle for jump in design.program.continuity_report() if jump.order == order]
+        jumps = [jump.angle for jump in continuity if jump.order == order]
         for number, jump in enumerate(jumps):
             mark = axes[order + 1].axvline(math.degrees(jump) % 360.0, color='k',
                                            linewidth=1.4, linestyle=(0, (1, 1)),

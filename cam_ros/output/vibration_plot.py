@@ -33,7 +33,7 @@ def vibration_figure(design: CamDesign, title: str = '') -> Figure:
     from matplotlib.figure import Figure
 
     train, report = design.config.train, design.vibration_check
-    if train is None or report is None:
+    if train is None or report is None:  # the figure is what `cam_ros plot --vibration` asks
         raise InvalidParameter('--vibration', True, NO_TRAIN)
     figure = Figure(figsize=FIGURE_SIZE_IN, layout='constrained')
     spectrum, output = figure.subplots(1, 2, width_ratios=(1.0, 1.3))

@@ -22,13 +22,12 @@ from numpy.polynomial import polynomial
 
 from ..errors import InvalidParameter
 from ..motion.laws import ConstantVelocity, Dwell, PolynomialLaw
-from ..motion.program import JUMP_TOLERANCE, MotionProgram, Segment
+from ..motion.program import is_jump, MotionProgram, Segment
 from .vibration import TrainConfig
 
 #: Derivatives of s that must be continuous everywhere for the compensated cam to be smooth.
 ORDERS = 4
-_ORDINALS = ('position', '1st derivative', '2nd derivative', '3rd derivative',
-             '4th derivative')
+_ORDINALS = ('1st', '2nd', '3rd', '4th')
 PARAMETER = 'dynamics.compensate'
 
 
@@ -61,12 +60,11 @@ def _check_continuity(program: MotionProgram, laws: list[np.ndarray]) -> None:
         left = _end_derivatives(before, laws[index - 1], 1.0)
         right = _end_derivatives(segment, laws[index], 0.0)
         for order in range(1, ORDERS + 1):
-            scale = max(abs(left[order]), abs(right[order]),
-                        *(abs(item.stroke) / item.span ** order for item in (before, segment)))
-            if abs(right[order] - left[order]) > JUMP_TOLERANCE * scale:
+            if is_jump(float(left[order]), float(right[order]), order, (before, segment)):
                 raise InvalidParameter(
                     PARAMETER, True,
-                    f'needs the motion continuous to its 4th derivative: its {_ORDINALS[order]} '
+                    f'needs the motion continuous to its 4th derivative: its '
+                    f'{_ORDINALS[order - 1]} derivative '
                     f'jumps from {left[order]:.6g} to {right[order]:.6g} at '
                     f'{math.degrees(segment.start) % 360.0:g} deg, between '
                     f'motion.laws[{(index - 1) % len(segments)}] ({before.law.name}) and '

@@ -314,9 +314,7 @@ class MotionProgram:
             for angle, near, left, right in places:
                 for order, (low, high) in enumerate(zip(left, right)):
                     below, above = float(low), float(high)
-                    scale = max(abs(below), abs(above),
-                                *(abs(item.stroke) / item.span ** order for item in near))
-                    if abs(above - below) > JUMP_TOLERANCE * scale:
+                    if is_jump(below, above, order, near):
                         found.append(Discontinuity(angle, order, below, above, number))
         return tuple(sorted(found, key=lambda item: (item.angle, item.order)))
 
@@ -331,6 +329,16 @@ class MotionProgram:
                                             segment.s_start, segment.s_end, law.cv, law.ca,
                                             law.cj, *peaks))
         return tuple(summaries)
+
+
+def is_jump(left: float, right: float, order: int, near: Sequence[Segment]) -> bool:
+    """Return whether d^order s jumps from left to right where the segments near meet.
+
+    Differences below JUMP_TOLERANCE times the derivative's scale (|stroke| / span**order of
+    those segments, or the larger one-sided value) are rounding noise, not a jump.
+    """
+    scale = max(abs(left), abs(right), *(abs(item.stroke) / item.span ** order for item in near))
+    return abs(right - left) > JUMP_TOLERANCE * scale
 
 
 def _check_segments(segments: Sequence[Segment]) -> None:
