@@ -53,8 +53,10 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'segments': [{
             'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
             'end_deg': degrees(s.end), 'start_position': s.s_start,
-            'end_position': s.s_end, 'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
-            **dict(zip(PEAK_KEYS, s.peaks_at_speed(omega)))} for s in report.segments],
+            'end_position': s.s_end, 'task': s.task, 'inflection': s.inflection,
+            'cv': s.cv, 'ca': s.ca, 'cj': s.cj,
+            **dict(zip(PEAK_KEYS, s.peaks_at_speed(omega))),
+            'velocity_overshoot': s.overshoot * omega} for s in report.segments],
         'continuity': [{
             'angle_deg': cam_degrees(jump.angle), 'order': jump.order,
             'derivative': ORDER_NAMES[jump.order], 'jump': jump.jump, 'left': jump.left,
@@ -170,9 +172,10 @@ def _follower_line(design: CamDesign) -> str:
 
 def _segment_table(report: DesignReport) -> str:
     unit, omega = report.design.config.position_unit, report.design.config.cam_speed
-    headers = ('#', 'law', 'start deg', 'end deg', f'from {unit}', f'to {unit}', 'Cv', 'Ca',
-               'Cj', f'peak v {unit}/s', f'peak a {unit}/s^2', f'peak j {unit}/s^3')
-    rows = [(str(s.index), s.law, f'{math.degrees(s.start):.2f}', f'{math.degrees(s.end):.2f}',
+    headers = ('#', 'law', 'task', 'start deg', 'end deg', f'from {unit}', f'to {unit}', 'Cv',
+               'Ca', 'Cj', f'peak v {unit}/s', f'peak a {unit}/s^2', f'peak j {unit}/s^3')
+    rows = [(str(s.index), s.law + ('' if s.inflection == 0.5 else f' ({s.inflection:g})'),
+             s.task, f'{math.degrees(s.start):.2f}', f'{math.degrees(s.end):.2f}',
              number(s.s_start), number(s.s_end), number(s.cv, 5), number(s.ca, 5),
              number(s.cj, 5), *(number(peak, 5) for peak in s.peaks_at_speed(omega)))
             for s in report.segments]

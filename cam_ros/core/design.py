@@ -172,6 +172,11 @@ class CamDesign:
                              f'{math.degrees(jump.angle):.2f} deg'
                              + _VELOCITY_JUMP_NOTE[jump.order == 1
                                                    and not self.config.allow_velocity_jumps])
+        for segment in self.program.segment_summary():
+            if segment.overshoot:
+                notes.append(f'segment {segment.index} ({segment.task}, {segment.law}): '
+                             f'ds/dtheta overshoots the velocity of its moving end by '
+                             f'{segment.overshoot:.6g} {unit}/rad, as its boundary values force')
         notes += self._vibration_warnings()
         dynamics = self.dynamics_check
         if dynamics is None:

@@ -12,7 +12,8 @@ from typing import Any, Mapping
 from .config.schema import LENGTH_UNITS, CamConfig, MotionConfig
 from .errors import InvalidParameter, quote
 from .motion.laws import MotionLaw, make_law
-from .motion.program import MotionProgram, Segment
+from .motion.program import MotionProgram
+from .motion.tasks import BOUNDARY_LAWS, build_segments, TaskSpec
 
 #: Boundary conditions of the 3-4-5 law (u, derivative order, value) that a polynomial segment
 #: with via points keeps: rest to rest with zero acceleration at both ends.
@@ -20,7 +21,9 @@ REST_TO_REST = ((0.0, 0, 0.0), (0.0, 1, 0.0), (0.0, 2, 0.0),
                 (1.0, 0, 1.0), (1.0, 1, 0.0), (1.0, 2, 0.0))
 SEGMENT_FIELDS = {'start': 'motion.start_deg', 'end': 'motion.end_deg',
                   's_start': 'motion.start_position', 's_end': 'motion.end_position',
-                  'law': 'motion.laws'}
+                  'law': 'motion.laws', 'inflection': 'motion.inflection',
+                  **{f'{side}_{name}': f'motion.{side}_{name}' for side in ('start', 'end')
+                     for name in ('velocity', 'acceleration', 'jerk')}}
 #: The config array that gives each law parameter (via points, SCCA fractions, table points).
 LAW_FIELDS = {'u_via': 'motion.via_deg', 'y_via': 'motion.via_position',
               'conditions': 'motion.via_deg', 'b': 'motion.scca_fractions',
@@ -127,10 +130,11 @@ def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionPro
         if not 0 <= segment < len(motion.laws):
             raise InvalidParameter(f'motion.via_segment[{index}]', segment,
                                    f'must be a segment index in [0, {len(motion.laws) - 1}]')
-    segments = []
+    specs = []
     for index in range(len(motion.laws)):
         try:
-            law = build_law(motion, index, written)
+            law = (motion.laws[index] if motion.laws[index] in BOUNDARY_LAWS
+                   else build_law(motion, index, written))
         except InvalidParameter as err:
             if err.parameter.startswith('motion.'):
                 raise
@@ -142,10 +146,12 @@ def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionPro
                 f'{err.parameter} = {quote(err.value)}: ')
             raise InvalidParameter(field, list(written.get(field, ())), f'{what}{err.rule} '
                                    f'({motion.laws[index]} law of segment {index})') from err
-        segments.append(Segment(law, motion.start[index], motion.end[index],
-                                motion.start_position[index], motion.end_position[index]))
+        specs.append(TaskSpec(law, motion.start[index], motion.end[index],
+                              motion.start_position[index], motion.end_position[index],
+                              motion.begin[index], motion.finish[index],
+                              motion.inflection[index]))
     try:
-        return MotionProgram(tuple(segments))
+        return MotionProgram(build_segments(specs))
     except InvalidParameter as err:
         raise _in_config_terms(err, written) from err
 

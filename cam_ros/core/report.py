@@ -76,7 +76,9 @@ class DesignReport:
 def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
     """Return seed 002's estimate for a translating roller from its steepest rise, else None."""
     follower = design.follower
-    rises = [s for s in design.program.segment_summary() if s.s_end > s.s_start and s.cv > 0]
+    segments = design.program.segments  # with a ramp, h cv / beta is not the peak slope
+    rises = [s for s in design.program.segment_summary()
+             if s.s_end > s.s_start and s.cv > 0 and not segments[s.index].ramp]
     if not isinstance(follower, TranslatingRoller) or not rises:
         return None
     steepest = max(rises, key=lambda s: s.peak_ds)

@@ -50,6 +50,9 @@ LAW_PARAMS: dict[str, dict[str, object]] = {
                                   (1.0, 1, 0.0), (1.0, 2, 0.0), (0.5, 0, 0.6)]},
     'table': {'u': [0.0, 0.25, 0.5, 0.8, 1.0], 'y': [0.0, 0.1, 0.45, 0.9, 1.0]},
     'via_point': {'u_via': SEED_RISE_VIA[0], 'y_via': SEED_RISE_VIA[1]},
+    # rest to rest over a unit stroke and span: the boundary polynomials of test_motion_tasks.py
+    'poly5': {'stroke': 1.0, 'span': 1.0, 'start': (0.0, 0.0), 'end': (0.0, 0.0)},
+    'poly7': {'stroke': 1.0, 'span': 1.0, 'start': (0.0, 0.0, 0.0), 'end': (0.0, 0.0, 0.0)},
 }
 RISES = [name for name in LAW_PARAMS if name != 'dwell']
 

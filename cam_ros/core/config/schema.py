@@ -42,6 +42,9 @@ FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller'
 ROTATIONS = ('clockwise', 'counterclockwise')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
 REQUIRED = object()  # default of a parameter the file must give
+#: The optional per-segment arrays of a motion task, one entry per segment when given.
+TASK_ARRAYS = tuple(f'motion.{side}_{name}' for name in ('velocity', 'acceleration', 'jerk')
+                    for side in ('start', 'end')) + ('motion.inflection',)
 #: Largest length (m) a config may give: far beyond any cam, and small enough that products of
 #: lengths stay finite in double precision.
 MAX_LENGTH_M = 1e3
@@ -62,6 +65,7 @@ class ParameterSpec:
     maximum: float | None = None
     choices: tuple[str, ...] = ()
     read_only: bool = False
+    automatic: bool = False  # entries may be .nan, meaning "automatic"
 
     @property
     def rule(self) -> str:
@@ -121,6 +125,14 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('motion.table_y', 'double_array', [], 'Normalised rise 0..1 of the table law'),
     _p('motion.table_counts', 'integer_array', [], 'How many of the table_u/table_y points '
        'belong to each table segment, in segment order (needed with two or more)'),
+    *(_p(f'motion.{side}_{name}', 'double_array', [], f'Given {name} of each segment at its '
+         f'{side} (.nan: automatic; see Motion tasks)', unit=f'length_unit|deg per deg{power}',
+         automatic=True)
+      for name, power in (('velocity', ''), ('acceleration', '^2'), ('jerk', '^3'))
+      for side in ('start', 'end')),
+    _p('motion.inflection', 'double_array', [], 'Fraction of each segment where the '
+       'acceleration of a symmetric law changes sign (default 0.5)', minimum=1e-3,
+       maximum=1.0 - 1e-3),
     _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
        unit='deg', minimum=1.0, maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
@@ -237,6 +249,10 @@ class MotionConfig:
     table_u: tuple[float, ...]
     table_y: tuple[float, ...]
     table_counts: tuple[int, ...]
+    #: Given end derivatives per segment, per rad (nan: automatic): (ds, d2s, d3s) at start, end.
+    begin: tuple[tuple[float, float, float], ...]
+    finish: tuple[tuple[float, float, float], ...]
+    inflection: tuple[float, ...]
 
 
 @dataclass(frozen=True)
@@ -316,8 +332,10 @@ def _check_range(spec: ParameterSpec, value: Any) -> None:
     items = value if isinstance(value, tuple) else (value,)
     written = list(value) if isinstance(value, tuple) else value  # quoted as the file gives it
     for item in items:
-        if isinstance(item, float) and not math.isfinite(item):
-            raise InvalidParameter(spec.name, written, 'must be finite')
+        if isinstance(item, float) and not math.isfinite(item) and not (
+                spec.automatic and math.isnan(item)):
+            raise InvalidParameter(spec.name, written, 'must be finite' + (
+                ' (or .nan: automatic)' if spec.automatic else ''))
         if spec.minimum is not None and isinstance(item, (int, float)) and item < spec.minimum:
             raise InvalidParameter(spec.name, written, f'must be >= {spec.minimum:g}')
         if spec.maximum is not None and isinstance(item, (int, float)) and item > spec.maximum:
@@ -378,9 +396,13 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         table_u=values['motion.table_u'],
         table_y=values['motion.table_y'],
         table_counts=values['motion.table_counts'],
+        begin=_end_derivatives(values, 'start', position_scale),
+        finish=_end_derivatives(values, 'end', position_scale),
+        inflection=values['motion.inflection'] or (0.5,) * len(values['motion.laws']),
     )
     _check_parallel(values, ('motion.laws', 'motion.start_deg', 'motion.end_deg',
                              'motion.start_position', 'motion.end_position'))
+    _check_parallel(values, ('motion.laws', *(name for name in TASK_ARRAYS if values[name])))
     _check_parallel(values, ('motion.via_segment', 'motion.via_deg', 'motion.via_position'))
     _check_parallel(values, ('motion.table_u', 'motion.table_y'))
     return CamConfig(
@@ -404,6 +426,17 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
                                                          'dynamics.mass'))),
         parameters=dict(values),
     )
+
+
+def _end_derivatives(values: Mapping[str, Any], side: str,
+                     position_scale: float) -> tuple[tuple[float, float, float], ...]:
+    """Return (ds, d2s, d3s) per rad at each segment's side from the per-deg arrays (nan kept)."""
+    per_degree = 180.0 / math.pi
+    columns = [values[f'motion.{side}_{name}'] or (math.nan,) * len(values['motion.laws'])
+               for name in ('velocity', 'acceleration', 'jerk')]
+    return tuple(tuple(value * position_scale * per_degree ** order
+                       for order, value in enumerate(row, 1))  # type: ignore[misc]
+                 for row in zip(*columns))
 
 
 def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:

@@ -5,8 +5,9 @@ x + (2 zeta / omega_n) x_t + x_tt / omega_n^2 = y. Shaping the cam as
 
     y = s + (2 zeta / omega_n) s_t + s_tt / omega_n^2     (time derivatives at the cam speed)
 
-makes x = s exactly at that speed. Per rad of cam at speed omega, with s = s0 + h f(u) on a
-segment of span beta, y = s0 + h F(u), F = f + a f' + b f'', a = 2 zeta omega / (omega_n beta),
+makes x = s exactly at that speed. Per rad of cam at speed omega, with s = s0 + f(u) on a
+segment of span beta (f = h y(u), plus the ramp of a motion task), y = s0 + F(u),
+F = f + a f' + b f'', a = 2 zeta omega / (omega_n beta),
 b = (omega / (omega_n beta))^2: for a polynomial law F is a polynomial too, so the compensated
 cam is again a motion program of polynomial segments, and every geometry check applies to it
 unchanged. y'' holds s'''', so s must be continuous to its 4th derivative (polynomial_9 next to
@@ -21,7 +22,7 @@ import numpy as np
 from numpy.polynomial import polynomial
 
 from ..errors import InvalidParameter
-from ..motion.laws import ConstantVelocity, Dwell, PolynomialLaw
+from ..motion.laws import ConstantVelocity, Dwell, PolynomialShape
 from ..motion.program import is_jump, MotionProgram, Segment
 from .vibration import TrainConfig
 
@@ -32,23 +33,26 @@ PARAMETER = 'dynamics.compensate'
 
 
 def _coefficients(segment: Segment, index: int) -> np.ndarray:
-    """Return the polynomial coefficients of a segment's law, or raise naming the law."""
+    """Return s - s_start of a segment as a polynomial in u, or raise naming the law."""
     law = segment.law
-    if isinstance(law, PolynomialLaw):
-        return np.array(law.coefficients)
-    if isinstance(law, Dwell):
-        return np.zeros(1)
-    if isinstance(law, ConstantVelocity):
-        return np.array([0.0, 1.0])
-    raise InvalidParameter(PARAMETER, True, f'shapes polynomial laws (polynomial_9 is continuous '
-                                            f'and at rest to the 4th derivative at both ends); '
-                                            f'motion.laws[{index}] is {law.name}')
+    if isinstance(law, PolynomialShape):
+        shape = np.array(law.coefficients)
+    elif isinstance(law, Dwell):
+        shape = np.zeros(1)
+    elif isinstance(law, ConstantVelocity):
+        shape = np.array([0.0, 1.0])
+    else:
+        raise InvalidParameter(PARAMETER, True,
+                               f'shapes polynomial laws (polynomial_9 is continuous and at rest '
+                               f'to the 4th derivative at both ends); motion.laws[{index}] is '
+                               f'{law.name}')
+    return polynomial.polyadd(segment.amplitude * shape, [0.0, segment.ramp * segment.span])
 
 
 def _end_derivatives(segment: Segment, coefficients: np.ndarray, u: float) -> np.ndarray:
     """Return s, ds, ..., d4s per rad of a segment at its end u (0 or 1)."""
-    return np.array([segment.s_start + segment.stroke * polynomial.polyval(u, coefficients)]
-                    + [segment.stroke * polynomial.polyval(u, polynomial.polyder(coefficients, k))
+    return np.array([segment.s_start + polynomial.polyval(u, coefficients)]
+                    + [polynomial.polyval(u, polynomial.polyder(coefficients, k))
                        / segment.span ** k for k in range(1, ORDERS + 1)])
 
 
@@ -90,12 +94,11 @@ def compensated_program(program: MotionProgram, omega: float,
         shaped = polynomial.polyadd(
             polynomial.polyadd(f, 2.0 * train.damping_ratio * ratio * polynomial.polyder(f)),
             ratio ** 2 * polynomial.polyder(f, 2))
-        low, high = float(shaped[0]), float(np.sum(shaped))  # F(0), F(1)
+        low, high = float(shaped[0]), float(np.sum(shaped))  # F(0), F(1) - s_start
+        scale = segment.amplitude or segment.stroke or 1.0  # keeps y of order 1
         rise = shaped.copy()
         rise[0] = 0.0
-        law = PolynomialLaw(tuple(rise / (high - low)))
-        segments.append(Segment(law, segment.start, segment.end,
-                                segment.s_start + segment.stroke * low,
-                                segment.s_start + segment.stroke * high,
-                                f'{segment.law.name}, compensated'))
+        segments.append(Segment(PolynomialShape(tuple(rise / scale)), segment.start, segment.end,
+                                segment.s_start + low, segment.s_start + high,
+                                f'{segment.law.name}, compensated', amplitude=scale))
     return MotionProgram(tuple(segments))

@@ -33,8 +33,56 @@ def _finite_floats(parameter: str, values: Sequence[float]) -> tuple[float, ...]
     return numbers
 
 
+def solve_coefficients(conditions: Sequence[Condition],
+                       powers: Sequence[int] | None = None) -> FloatArray:
+    """
+    Return the coefficients (lowest power first) meeting one condition per unknown.
+
+    A condition is (u, derivative order, value); the unknowns are the coefficients of u**p for
+    p in `powers` (default 0, 1, ..., n - 1 for n conditions), every other one is zero.
+    """
+    rows = [_checked_condition(index, condition) for index, condition in enumerate(conditions)]
+    exponents = list(range(len(rows))) if powers is None else _checked_powers(powers)
+    if not rows or len(exponents) != len(rows):
+        raise InvalidParameter('conditions', conditions,
+                               f'need exactly one condition per power {exponents}')
+    at, order, value = (np.array(column, dtype=float) for column in zip(*rows))
+    exponent = np.array(exponents, dtype=float)
+    ratio = np.array([[_falling_factorial(p, k) for p in exponents] for _, k, _ in rows])
+    power = np.maximum(exponent[None, :] - order[:, None], 0.0)
+    matrix = ratio * at[:, None] ** power
+    if np.linalg.cond(matrix) > MAX_CONDITION_NUMBER:
+        raise InvalidParameter('conditions', conditions, 'do not determine a unique polynomial')
+    coefficients = np.zeros(max(exponents) + 1)
+    coefficients[exponents] = np.linalg.solve(matrix, value)
+    return coefficients
+
+
 @dataclass(frozen=True)
-class PolynomialLaw(InPlaceLaw):
+class PolynomialShape(InPlaceLaw):
+    """y(u) = sum_k coefficients[k] * u**k: the evaluation every polynomial law shares."""
+
+    name: ClassVar[str] = 'polynomial'
+    coefficients: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        """Store the coefficients as a tuple of finite floats."""
+        object.__setattr__(self, 'coefficients', _finite_floats('coefficients',
+                                                                self.coefficients))
+
+    @cached_property
+    def _derivative_coefficients(self) -> tuple[FloatArray, ...]:
+        coefficients = np.array(self.coefficients)
+        return tuple(polynomial.polyder(coefficients, order) for order in range(4))
+
+    def _derivatives_into(self, values: LawValues) -> None:
+        u = values.y.copy()
+        for out, coefficients in zip(values, self._derivative_coefficients):
+            _horner(u, coefficients, out)
+
+
+@dataclass(frozen=True)
+class PolynomialLaw(PolynomialShape):
     """
     Polynomial rise y(u) = sum_k coefficients[k] * u**k.
 
@@ -42,13 +90,10 @@ class PolynomialLaw(InPlaceLaw):
     conditions on y, y', y'', ... at u = 0, u = 1 or interior via points with `from_conditions`.
     """
 
-    name: ClassVar[str] = 'polynomial'
-    coefficients: tuple[float, ...]
-
     def __post_init__(self) -> None:
         """Check the coefficients once and store them as a tuple of floats."""
-        coefficients = _finite_floats('coefficients', self.coefficients)
-        object.__setattr__(self, 'coefficients', coefficients)
+        super().__post_init__()
+        coefficients = self.coefficients
         at_end = math.fsum(coefficients)
         if abs(coefficients[0]) > END_TOLERANCE or abs(at_end - 1.0) > END_TOLERANCE:
             raise InvalidParameter('coefficients', coefficients, 'must give y(0) = 0 and y(1) = 1')
@@ -62,32 +107,7 @@ class PolynomialLaw(InPlaceLaw):
         The unknowns are the coefficients of u**p for p in `powers` (default 0, 1, ..., n - 1
         for n conditions); every other coefficient is zero.  One linear solve.
         """
-        rows = [_checked_condition(index, condition) for index, condition in enumerate(conditions)]
-        exponents = list(range(len(rows))) if powers is None else _checked_powers(powers)
-        if not rows or len(exponents) != len(rows):
-            raise InvalidParameter('conditions', conditions,
-                                   f'need exactly one condition per power {exponents}')
-        at, order, value = (np.array(column, dtype=float) for column in zip(*rows))
-        exponent = np.array(exponents, dtype=float)
-        ratio = np.array([[_falling_factorial(p, k) for p in exponents] for _, k, _ in rows])
-        power = np.maximum(exponent[None, :] - order[:, None], 0.0)
-        matrix = ratio * at[:, None] ** power
-        if np.linalg.cond(matrix) > MAX_CONDITION_NUMBER:
-            raise InvalidParameter('conditions', conditions,
-                                   'do not determine a unique polynomial')
-        coefficients = np.zeros(max(exponents) + 1)
-        coefficients[exponents] = np.linalg.solve(matrix, value)
-        return PolynomialLaw(tuple(coefficients))
-
-    @cached_property
-    def _derivative_coefficients(self) -> tuple[FloatArray, ...]:
-        coefficients = np.array(self.coefficients)
-        return tuple(polynomial.polyder(coefficients, order) for order in range(4))
-
-    def _derivatives_into(self, values: LawValues) -> None:
-        u = values.y.copy()
-        for out, coefficients in zip(values, self._derivative_coefficients):
-            _horner(u, coefficients, out)
+        return PolynomialLaw(tuple(solve_coefficients(conditions, powers)))
 
 
 def _horner(u: FloatArray, coefficients: FloatArray, out: FloatArray) -> None:
@@ -161,3 +181,78 @@ class Polynomial9(PolynomialLaw):
     name: ClassVar[str] = 'polynomial_9'
     coefficients: tuple[float, ...] = field(
         default=(0.0, 0.0, 0.0, 0.0, 0.0, 126.0, -420.0, 540.0, -315.0, 70.0), init=False)
+
+
+@dataclass(frozen=True)
+class BoundaryPolynomial(PolynomialShape):
+    """The polynomial through given end derivatives of a segment: VDI 2143's Poly5 / Poly7.
+
+    The shape is y = (s - s_start) / amplitude, amplitude the stroke, or for a segment that ends
+    where it starts (a U-U loop) its largest excursion |s - s_start|, so that y stays of order 1
+    and its peaks cv, ca, cj compare with the other laws'.  Build one with `through`.
+    """
+
+    amplitude: float = 1.0
+    #: The derivatives fixed at each end: 1 .. orders (2: velocity and acceleration).
+    orders: ClassVar[int] = 2
+
+    @classmethod
+    def through(cls, stroke: float, span: float, start: Sequence[float],
+                end: Sequence[float]) -> 'BoundaryPolynomial':
+        """Return the law of a segment of stroke and span (rad) with the given end derivatives.
+
+        start and end hold ds/dtheta, d2s/dtheta2 (and d3s/dtheta3 for poly7) per rad.
+        """
+        for side, values in (('start', start), ('end', end)):
+            if len(values) != cls.orders:
+                raise InvalidParameter(side, values, f'{cls.name} takes {cls.orders} end '
+                                                     f'derivatives (1st to {cls.orders}th)')
+            _finite_floats(side, values)
+        shape = cls._absolute(stroke, span, start, end)
+        amplitude = stroke if stroke else _peak_excursion(shape)
+        normalised = shape / amplitude if amplitude else shape
+        return cls(tuple(normalised.tolist()), float(amplitude))
+
+    @classmethod
+    def _absolute(cls, stroke: float, span: float, start: Sequence[float],
+                  end: Sequence[float]) -> FloatArray:
+        """Return s(u) - s_start as coefficients in u from the conditions (one linear solve)."""
+        conditions = [(0.0, 0, 0.0), (1.0, 0, stroke)]
+        for at, values in ((0.0, start), (1.0, end)):
+            conditions += [(at, k, value * span ** k) for k, value in enumerate(values, 1)]
+        return solve_coefficients(conditions)
+
+
+def _peak_excursion(coefficients: FloatArray) -> float:
+    """Return max |p(u)| over [0, 1]: at an end or a real root of p' inside."""
+    stationary = polynomial.polyroots(polynomial.polyder(coefficients))
+    inside = stationary.real[(np.abs(stationary.imag) < 1e-12)
+                             & (stationary.real > 0.0) & (stationary.real < 1.0)]
+    return float(np.max(np.abs(polynomial.polyval(np.array([0.0, 1.0, *inside]), coefficients))))
+
+
+@dataclass(frozen=True)
+class Poly5(BoundaryPolynomial):
+    """General quintic through (s, s', s'') at both ends (VDI 2143 Poly5, closed form)."""
+
+    name: ClassVar[str] = 'poly5'
+    orders: ClassVar[int] = 2
+
+    @classmethod
+    def _absolute(cls, stroke: float, span: float, start: Sequence[float],
+                  end: Sequence[float]) -> FloatArray:
+        """Return s(u) - s_start: the standard closed form (Biagiotti & Melchiorri, ch. 2)."""
+        (v0, a0), (v1, a1), h, x = start, end, stroke, span
+        xx = x * x / 2.0
+        return np.array([0.0, v0 * x, a0 * xx,
+                         10.0 * h - (6.0 * v0 + 4.0 * v1) * x - (3.0 * a0 - a1) * xx,
+                         -15.0 * h + (8.0 * v0 + 7.0 * v1) * x + (3.0 * a0 - 2.0 * a1) * xx,
+                         6.0 * h - 3.0 * (v0 + v1) * x - (a0 - a1) * xx])
+
+
+@dataclass(frozen=True)
+class Poly7(BoundaryPolynomial):
+    """General septic through (s, s', s'', s''') at both ends (VDI 2143 Poly7, one solve)."""
+
+    name: ClassVar[str] = 'poly7'
+    orders: ClassVar[int] = 3

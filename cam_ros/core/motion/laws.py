@@ -18,7 +18,8 @@ import numpy as np
 
 from ..arrays import FloatArray
 from ._law_base import full_like, InPlaceLaw, LawValues, MotionLaw
-from ._polynomial import Condition, Polynomial345, Polynomial4567, Polynomial9, PolynomialLaw
+from ._polynomial import (BoundaryPolynomial, Condition, Poly5, Poly7, Polynomial345,
+                          Polynomial4567, Polynomial9, PolynomialLaw, PolynomialShape)
 from ._sine_acceleration import ModifiedSine, ModifiedTrapezoid, SccaLaw, ViaPointLaw
 from ..errors import did_you_mean, InvalidParameter
 
@@ -26,10 +27,10 @@ if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
 __all__ = [
-    'ConstantAcceleration', 'ConstantVelocity', 'Cycloidal', 'Dwell', 'LAWS', 'LawValues',
-    'make_law', 'ModifiedSine', 'ModifiedTrapezoid', 'MotionLaw', 'Polynomial345',
-    'Polynomial4567', 'Polynomial9', 'PolynomialLaw', 'SccaLaw', 'SimpleHarmonic', 'TableLaw',
-    'ViaPointLaw',
+    'BoundaryPolynomial', 'ConstantAcceleration', 'ConstantVelocity', 'Cycloidal', 'Dwell',
+    'LAWS', 'LawValues', 'make_law', 'ModifiedSine', 'ModifiedTrapezoid', 'MotionLaw', 'Poly5',
+    'Poly7', 'Polynomial345', 'Polynomial4567', 'Polynomial9', 'PolynomialLaw', 'PolynomialShape',
+    'SccaLaw', 'SimpleHarmonic', 'TableLaw', 'ViaPointLaw',
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -204,6 +205,8 @@ LAWS: Mapping[str, Callable[..., MotionLaw]] = MappingProxyType({
     'polynomial': _polynomial,
     'table': TableLaw,
     'via_point': ViaPointLaw,
+    'poly5': Poly5.through,
+    'poly7': Poly7.through,
 })
 
 

@@ -6,9 +6,13 @@ onto the follower position: s = s_start + (s_end - s_start) * y(u), so that, wit
 beta = end - start and the stroke h = s_end - s_start, ds/dtheta = h y'/beta,
 d2s/dtheta2 = h y''/beta**2, d3s/dtheta3 = h y'''/beta**3.  Positions are in m for a
 translating follower, in rad (arm angle) for an oscillating one; derivatives are per rad of cam.
+A segment that starts and ends moving (a VDI 2143 motion task, see tasks.py) adds a ramp:
+s = s_start + ramp (theta - start) + amplitude y(u), amplitude = h - ramp beta unless given.
 
 The segments follow each other without gap or overlap and cover exactly 2 pi, starting at the
 first segment's start (any angle, e.g. 0 or -pi/2); `evaluate` takes any real angle modulo 2 pi.
+A program may advance: end `advance` above where it starts (a rotary slave turning on by a
+full turn per cycle); then s(theta + 2 pi n) = s(theta) + n advance.
 """
 
 import math
@@ -20,9 +24,10 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..arrays import checked_array, float_array, FloatArray
-from ._law_base import LawValues, workspace
+from ..arrays import checked_array, finite_float, float_array, FloatArray
+from ._law_base import characteristic_values, LawValues, workspace
 from ..errors import InvalidParameter
+from ..extremes import refine_extremum
 from .laws import Dwell, LAWS, MotionLaw
 
 TWO_PI = 2.0 * math.pi
@@ -34,6 +39,8 @@ POSITION_TOLERANCE = 1e-9
 #: scale there, |stroke| / span**k of the segments on either side (or the larger one-sided
 #: value): rounding noise at joints that are smooth in exact arithmetic.
 JUMP_TOLERANCE = 1e-9
+#: Samples of a moving segment's velocity refined for its overshoot.
+OVERSHOOT_SAMPLES = 1025
 
 
 @dataclass(frozen=True)
@@ -41,7 +48,9 @@ class Segment:
     """
     One segment: a law from cam angle start to end (rad), the follower from s_start to s_end.
 
-    A rise has s_end > s_start, a fall s_end < s_start, a dwell s_end == s_start.  Checked by
+    A rise has s_end > s_start, a fall s_end < s_start, a dwell s_end == s_start.  ramp
+    (ds/dtheta of a straight line under the law) and amplitude (what y = 1 adds to it; default
+    s_end - s_start - ramp * span) shape the motion tasks that start or end moving.  Checked by
     MotionProgram, which knows the segment's index for its messages.
     """
 
@@ -51,6 +60,13 @@ class Segment:
     s_start: float
     s_end: float
     label: str = ''
+    ramp: float = 0.0
+    amplitude: float = math.nan  # nan: s_end - s_start - ramp * span
+
+    def __post_init__(self) -> None:
+        """Fill in the default amplitude."""
+        if math.isnan(self.amplitude):
+            object.__setattr__(self, 'amplitude', self.stroke - self.ramp * self.span)
 
     @property
     def span(self) -> float:
@@ -65,21 +81,50 @@ class Segment:
 
 def _segment_into(segment: Segment, values: LawValues) -> None:
     """Overwrite values, normalised u in [0, 1] in values.y, by s, ds, d2s, d3s per rad."""
+    ramp, span = segment.ramp, segment.span
+    line = values.y * (ramp * span) if ramp else None
     segment.law._derivatives_into(values)
     y, y1, y2, y3 = values
-    stroke, span = segment.stroke, segment.span
-    y *= stroke
+    amplitude = segment.amplitude
+    y *= amplitude
     y += segment.s_start
-    y1 *= stroke / span
-    y2 *= stroke / span ** 2
-    y3 *= stroke / span ** 3
+    y1 *= amplitude / span
+    y2 *= amplitude / span ** 2
+    y3 *= amplitude / span ** 3
+    if line is not None:
+        y += line
+        y1 += ramp
 
 
-def _segment_values(segment: Segment, u: float) -> LawValues:
+def segment_values(segment: Segment, u: npt.ArrayLike) -> LawValues:
     """Return s, ds, d2s, d3s (per rad of cam) of a segment at normalised u in [0, 1]."""
     values = workspace(u)
     _segment_into(segment, values)
     return values
+
+
+def natural_scale(segment: Segment, order: int) -> float:
+    """Return the natural size of d^order s on a segment: its largest travel over span**order."""
+    travel = max(abs(segment.stroke), abs(segment.amplitude), abs(segment.ramp) * segment.span)
+    return travel / segment.span ** order
+
+
+#: A segment end's VDI 2143 type by (moving, accelerating): rest, constant velocity
+#: (Gleichlauf), reversal (Umkehr), general motion (Bewegung).
+_END_TYPES = {(False, False): 'R', (True, False): 'G', (False, True): 'U', (True, True): 'B'}
+
+
+def motion_task(segment: Segment) -> str:
+    """Return a segment's VDI 2143 motion task, the types of its two ends: 'R-R', 'R-G', ...
+
+    ds or d2s counts as zero below JUMP_TOLERANCE times its natural scale.
+    """
+    types = []
+    for at in (0.0, 1.0):
+        values = segment_values(segment, at)
+        types.append(_END_TYPES[tuple(abs(float(values[order])) > JUMP_TOLERANCE
+                                      * natural_scale(segment, order) for order in (1, 2))])
+    return '-'.join(types)
 
 
 def _ungrouped(grouped: FloatArray, order: npt.NDArray[np.intp]) -> FloatArray:
@@ -168,6 +213,11 @@ class SegmentSummary:
     peak_ds: float
     peak_d2s: float
     peak_d3s: float
+    task: str = 'R-R'
+    inflection: float = 0.5
+    #: How far peak |ds| exceeds the larger end |ds| of a task that starts or ends moving (an
+    #: R-G rise whose mean slope equals its end velocity must overshoot it); 0 otherwise.
+    overshoot: float = 0.0
 
     def peaks_at_speed(self, omega: float) -> tuple[float, float, float]:
         """Return peak |velocity|, |acceleration|, |jerk| at constant cam speed omega (rad/s)."""
@@ -186,6 +236,7 @@ class MotionProgram:
     """
 
     segments: tuple[Segment, ...]
+    advance: float = 0.0
 
     def __post_init__(self) -> None:
         """Check the segments once and store them as a tuple."""
@@ -193,7 +244,8 @@ class MotionProgram:
             segments = tuple(self.segments)
         except TypeError as err:
             raise InvalidParameter('segments', self.segments, 'must be a sequence') from err
-        _check_segments(segments)
+        finite_float('advance', self.advance)
+        _check_segments(segments, self.advance)
         object.__setattr__(self, 'segments', segments)
 
     @property
@@ -227,12 +279,15 @@ class MotionProgram:
     @cached_property
     def _dwell_values(self) -> dict[int, LawValues]:
         # s, ds, d2s, d3s of each dwell, the same at every angle: filled in, not evaluated.
-        return {number: _segment_values(segment, 0.0)
+        return {number: segment_values(segment, 0.0)
                 for number, segment in enumerate(self.segments) if isinstance(segment.law, Dwell)}
 
     def evaluate(self, theta: npt.ArrayLike) -> ProgramValues:
         """Return s and its derivatives per rad at cam angles theta (rad, any real, mod 2 pi)."""
         local = self._local_angles(theta)
+        turns = None
+        if self.advance:
+            turns, local = np.divmod(np.asarray(theta, dtype=float) - self.start, TWO_PI)
         flat = local.reshape(-1)
         order, bounds = self._grouping(flat)
         grouped = flat if order is None else flat[order]
@@ -243,7 +298,19 @@ class MotionProgram:
                                        LawValues(*(value[low:high] for value in values)))
         if order is not None:
             values = LawValues(*(_ungrouped(value, order) for value in values))
+        if turns is not None:
+            values.y += self.advance * turns.reshape(-1)
         return ProgramValues(*(value.reshape(local.shape) for value in values))
+
+    def _end_values(self, number: int) -> LawValues:
+        """Return s and its derivatives where segment number ends, as the next one sees them.
+
+        At the wrap joint (the last segment's end) the next cycle starts `advance` lower.
+        """
+        values = segment_values(self.segments[number], 1.0)
+        if number % len(self.segments) == len(self.segments) - 1 and self.advance:
+            values.y[...] -= self.advance
+        return values
 
     def segment_at(self, angle: float) -> int:
         """Return the number of the segment that owns a cam angle (rad, any finite value)."""
@@ -305,12 +372,12 @@ class MotionProgram:
         for number, segment in enumerate(self.segments):
             before = self.segments[number - 1]
             places: list[tuple[float, tuple[Segment, ...], LawValues, LawValues]] = [
-                (segment.start, (before, segment), _segment_values(before, 1.0),
-                 _segment_values(segment, 0.0))]
+                (segment.start, (before, segment), self._end_values(number - 1),
+                 segment_values(segment, 0.0))]
             for at in segment.law.breakpoints:
                 places.append((segment.start + at * segment.span, (segment,),
-                               _segment_values(segment, np.nextafter(at, -np.inf)),
-                               _segment_values(segment, at)))
+                               segment_values(segment, np.nextafter(at, -np.inf)),
+                               segment_values(segment, at)))
             for angle, near, left, right in places:
                 for order, (low, high) in enumerate(zip(left, right)):
                     below, above = float(low), float(high)
@@ -319,16 +386,46 @@ class MotionProgram:
         return tuple(sorted(found, key=lambda item: (item.angle, item.order)))
 
     def segment_summary(self) -> tuple[SegmentSummary, ...]:
-        """Return each segment's law name, cv, ca, cj and peak |ds|, |d2s|, |d3s| per rad."""
+        """Return each segment's law name, cv, ca, cj, peak |ds|, |d2s|, |d3s| per rad, task."""
+        return self._summaries
+
+    @cached_property
+    def _summaries(self) -> tuple[SegmentSummary, ...]:
         summaries = []
         for number, segment in enumerate(self.segments):
-            law, stroke, span = segment.law, abs(segment.stroke), segment.span
-            peaks = [stroke * value / span ** order if stroke else 0.0
+            law, amplitude, span = segment.law, abs(segment.amplitude), segment.span
+            peaks = [amplitude * value / span ** order if amplitude else 0.0
                      for order, value in ((1, law.cv), (2, law.ca), (3, law.cj))]
-            summaries.append(SegmentSummary(number, law.name, segment.start, segment.end,
-                                            segment.s_start, segment.s_end, law.cv, law.ca,
-                                            law.cj, *peaks))
+            if segment.ramp:  # |ramp + amplitude y'/span| peaks where it peaks, found as cv is
+                peaks[0] = characteristic_values(
+                    lambda u, at=segment: segment_values(at, u), law.breakpoints)[0]
+            task = motion_task(segment)
+            summaries.append(SegmentSummary(
+                number, law.name, segment.start, segment.end, segment.s_start, segment.s_end,
+                law.cv, law.ca, law.cj, *peaks, task, getattr(law, 'inflection', 0.5),
+                _overshoot(segment, task)))
         return tuple(summaries)
+
+
+def _overshoot(segment: Segment, task: str) -> float:
+    """Return how far ds/dtheta passes the velocity of a moving (G, B) end in its direction.
+
+    Refined to the true peak; 0 when it stays within (below JUMP_TOLERANCE of its scale).
+    """
+    u = np.linspace(0.0, 1.0, OVERSHOOT_SAMPLES)
+    excess = 0.0
+    for at, kind in zip((0.0, 1.0), task.split('-')):
+        if kind in 'GB':
+            velocity = float(segment_values(segment, at).y1)
+            sign = math.copysign(1.0, velocity)
+
+            def along(x: FloatArray, sign: float = sign) -> FloatArray:
+                return sign * segment_values(segment, x).y1
+
+            peak, _ = refine_extremum(along, u, along(u), 'max',
+                                      breaks=segment.law.breakpoints, period=None)
+            excess = max(excess, peak - abs(velocity))
+    return excess if excess > JUMP_TOLERANCE * natural_scale(segment, 1) else 0.0
 
 
 def is_jump(left: float, right: float, order: int, near: Sequence[Segment]) -> bool:
@@ -337,11 +434,11 @@ def is_jump(left: float, right: float, order: int, near: Sequence[Segment]) -> b
     Differences below JUMP_TOLERANCE times the derivative's scale (|stroke| / span**order of
     those segments, or the larger one-sided value) are rounding noise, not a jump.
     """
-    scale = max(abs(left), abs(right), *(abs(item.stroke) / item.span ** order for item in near))
+    scale = max(abs(left), abs(right), *(natural_scale(item, order) for item in near))
     return abs(right - left) > JUMP_TOLERANCE * scale
 
 
-def _check_segments(segments: Sequence[Segment]) -> None:
+def _check_segments(segments: Sequence[Segment], advance: float) -> None:
     """Raise InvalidParameter, naming the segment, unless the segments form a valid program."""
     if not segments:
         raise InvalidParameter('segments', list(segments), 'must hold at least one segment')
@@ -363,11 +460,13 @@ def _check_segments(segments: Sequence[Segment]) -> None:
             f'not {math.degrees(total):.6g} deg')
     for number, segment in enumerate(segments):
         before = (number - 1) % len(segments)
-        if abs(segment.s_start - segments[before].s_end) > POSITION_TOLERANCE:
+        arrives = segments[before].s_end - (advance if number == 0 else 0.0)
+        if abs(segment.s_start - arrives) > POSITION_TOLERANCE:
             where = ' (the wrap joint 360 -> 0 deg)' if number == 0 else ''
+            less = f' - advance {advance!r}' if number == 0 and advance else ''
             raise InvalidParameter(
                 f'segments[{number}].s_start', segment.s_start,
-                f'must equal segments[{before}].s_end = {segments[before].s_end!r}{where}: '
+                f'must equal segments[{before}].s_end = {segments[before].s_end!r}{less}{where}: '
                 'the follower cannot jump')
 
 
@@ -378,7 +477,7 @@ def _check_segment(name: str, segment: Segment) -> None:
     if not isinstance(segment.law, MotionLaw):
         raise InvalidParameter(f'{name}.law', segment.law,
                                'must be a MotionLaw; make_law(name, ...) knows ' + ', '.join(LAWS))
-    for field in ('start', 'end', 's_start', 's_end'):
+    for field in ('start', 'end', 's_start', 's_end', 'ramp', 'amplitude'):
         value = getattr(segment, field)
         if not isinstance(value, numbers.Real) or not math.isfinite(value):
             raise InvalidParameter(f'{name}.{field}', value, 'must be a finite number')
@@ -388,3 +487,7 @@ def _check_segment(name: str, segment: Segment) -> None:
     if isinstance(segment.law, Dwell) and abs(segment.stroke) > POSITION_TOLERANCE:
         raise InvalidParameter(f'{name}.s_end', segment.s_end,
                                f'a dwell must end where it starts (s_start = {segment.s_start!r})')
+    arrives = float(segment_values(segment, 1.0).y)
+    if abs(arrives - segment.s_end) > POSITION_TOLERANCE:
+        raise InvalidParameter(f'{name}.amplitude', segment.amplitude,
+                               f'takes the law to {arrives!r}, not to s_end = {segment.s_end!r}')
