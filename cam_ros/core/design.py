@@ -272,7 +272,7 @@ def build_follower(config: CamConfig) -> Follower:
 
 def build_design(config: CamConfig) -> CamDesign:
     """Build and validate the whole design; raises InvalidParameter naming the parameter."""
-    program = build_program(config.motion, config.parameters)
+    program = build_program(config)
     follower = build_follower(config)
     design = CamDesign(config, program, follower)
     try:

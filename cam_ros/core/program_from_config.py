@@ -124,8 +124,9 @@ def table_points(motion: MotionConfig, index: int) -> tuple[tuple[float, ...], .
     return motion.table_u[first:end], motion.table_y[first:end]
 
 
-def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionProgram:
+def build_program(config: CamConfig) -> MotionProgram:
     """Build the motion program; errors name the motion.* parameter (as written) and index."""
+    motion, written = config.motion, config.parameters
     for index, segment in enumerate(motion.via_segment):
         if not 0 <= segment < len(motion.laws):
             raise InvalidParameter(f'motion.via_segment[{index}]', segment,
@@ -153,7 +154,21 @@ def build_program(motion: MotionConfig, written: Mapping[str, Any]) -> MotionPro
     try:
         return MotionProgram(build_segments(specs))
     except InvalidParameter as err:
-        raise _in_config_terms(err, written) from err
+        restated = _in_config_terms(err, written)
+        raise InvalidParameter(restated.parameter, restated.value,
+                               _slopes_in_file_units(restated.rule, config)) from err
+
+
+def _slopes_in_file_units(text: str, config: CamConfig) -> str:
+    """Restate the derivatives per rad a core message quotes ('0.5 per rad^2') per degree."""
+    unit, scale = config.file_position_unit
+
+    def restate(match: re.Match) -> str:
+        order = int(match.group(2))
+        value = float(match.group(1)) * scale * math.radians(1.0) ** order + 0.0  # no -0
+        return f'{value:.6g} {unit}/deg' + (f'^{order}' if order > 1 else '')
+
+    return re.sub(rf'({NUMBER}) per rad\^([123])', restate, text)
 
 
 def _in_config_terms(err: InvalidParameter, written: Mapping[str, Any]) -> InvalidParameter:
@@ -167,7 +182,8 @@ def _in_config_terms(err: InvalidParameter, written: Mapping[str, Any]) -> Inval
         if field is None:
             return match.group(0)
         values = written.get(field)
-        value = values[number] if isinstance(values, (list, tuple)) else None
+        value = values[number] if isinstance(values, (list, tuple)) and number < len(values) \
+            else None
         quoted = f' = {value!r}' if match.group(3) and value is not None else match.group(3)
         return f'{field}[{number}]{quoted or ""}'
 
@@ -176,7 +192,8 @@ def _in_config_terms(err: InvalidParameter, written: Mapping[str, Any]) -> Inval
         return InvalidParameter(f'motion ({err.parameter})', err.value, err.rule)
     field, index = SEGMENT_FIELDS[match.group(2)], int(match.group(1))
     values = written.get(field)
-    value = values[index] if isinstance(values, (list, tuple)) else err.value
+    value = values[index] if isinstance(values, (list, tuple)) and index < len(values) \
+        else err.value
     rule = re.sub(r'(?<![\w.])(s_start|start) = ', rf'segments[{index}].\1 = ', err.rule)
     rule = re.sub(r'segments\[(\d+)\]\.(\w+)( = [-+\w.]+(?: rad)?)?', entry, rule)
     return InvalidParameter(f'{field}[{index}]', value, rule)

@@ -62,7 +62,8 @@ def _superposed(spec: TaskSpec, index: int) -> Segment:
     v0, v1 = (0.0 if math.isnan(end[0]) else end[0] for end in (spec.begin, spec.finish))
     if v0 != v1:
         raise InvalidParameter(_field(index, 'end', 1), spec.finish[0],
-                               f'differs from the start velocity {v0!r}: law {law.name} joins '
+                               f'differs from the start velocity {v0!r} per rad^1: law {law.name} '
+                               'joins '
                                'equal end velocities only (R-R, G-G); poly5 or poly7 joins any')
     if isinstance(law, Dwell) and v0:
         raise InvalidParameter(_field(index, 'start', 1), v0,
@@ -80,7 +81,8 @@ def _superposed(spec: TaskSpec, index: int) -> Segment:
             if not math.isnan(value) and abs(value - actual[order]) > MATCH_TOLERANCE * scale:
                 raise InvalidParameter(
                     _field(index, side, order), value,
-                    f'law {law.name} has {actual[order]:.6g} there (its own shape sets it); '
+                    f'law {law.name} has {float(actual[order])!r} per rad^{order} there (its own '
+                    'shape sets it); '
                     f'give poly5 (velocity, acceleration) or poly7 (and jerk) for other '
                     f'end values')
     return segment
