@@ -32,7 +32,7 @@ from ..arrays import FloatArray
 from ..extremes import refine_extrema
 from ..errors import InvalidParameter
 from ..motion.laws import MotionLaw
-from ..motion.program import MotionProgram
+from ..motion.program import motion_task, MotionProgram
 
 #: VDI 2149: the rigid model holds when the train's natural frequency is this many times the
 #: cam frequency or more.
@@ -142,14 +142,19 @@ class SegmentVibration:
 
 def segment_vibrations(program: MotionProgram, omega: float,
                        train: TrainConfig) -> tuple[SegmentVibration, ...]:
-    """Return the residual vibration after every rise and return of a program at speed omega."""
+    """Return the residual vibration after every rise and return of a program at speed omega.
+
+    A motion task's ramp (constant velocity under the law) leaves no vibration, so R scales with
+    the law's amplitude; segments with a reversal or general-motion end (U, B: accelerating at a
+    joint) have no steady state to leave and are not listed.
+    """
     found = []
     for index, segment in enumerate(program.segments):
-        if segment.stroke == 0.0:
+        if segment.amplitude == 0.0 or {'U', 'B'} & set(motion_task(segment)):
             continue
         r = segment.span / omega * train.natural_frequency
         ratio = float(residual_ratio(segment.law, r))
-        found.append(SegmentVibration(index, r, ratio * abs(segment.stroke), ratio))
+        found.append(SegmentVibration(index, r, ratio * abs(segment.amplitude), ratio))
     return tuple(found)
 
 

@@ -26,6 +26,7 @@ import numpy.typing as npt
 
 from ..arrays import checked_array, finite_float, float_array, FloatArray
 from ._law_base import characteristic_values, LawValues, workspace
+from ._polynomial import BoundaryPolynomial
 from ..errors import InvalidParameter
 from ..extremes import refine_extremum
 from .laws import Dwell, LAWS, MotionLaw
@@ -64,8 +65,10 @@ class Segment:
     amplitude: float = math.nan  # nan: s_end - s_start - ramp * span
 
     def __post_init__(self) -> None:
-        """Fill in the default amplitude."""
-        if math.isnan(self.amplitude):
+        """Fill in the default amplitude (left nan when a field is no number: see checks)."""
+        numbers_given = all(isinstance(getattr(self, name), numbers.Real)
+                            for name in ('start', 'end', 's_start', 's_end', 'ramp', 'amplitude'))
+        if numbers_given and math.isnan(self.amplitude):
             object.__setattr__(self, 'amplitude', self.stroke - self.ramp * self.span)
 
     @property
@@ -117,13 +120,18 @@ _END_TYPES = {(False, False): 'R', (True, False): 'G', (False, True): 'U', (True
 def motion_task(segment: Segment) -> str:
     """Return a segment's VDI 2143 motion task, the types of its two ends: 'R-R', 'R-G', ...
 
-    ds or d2s counts as zero below JUMP_TOLERANCE times its natural scale.
+    The task a segment solves: a rest-to-rest law (with its ramp) solves R-R or G-G even where
+    its own acceleration does not vanish at an end (simple harmonic: the continuity report lists
+    that jump); a boundary polynomial's ends are what its given values say (U, B too).  ds or
+    d2s counts as zero below JUMP_TOLERANCE times its natural scale.
     """
+    orders = (1, 2) if isinstance(segment.law, BoundaryPolynomial) else (1,)
     types = []
     for at in (0.0, 1.0):
         values = segment_values(segment, at)
-        types.append(_END_TYPES[tuple(abs(float(values[order])) > JUMP_TOLERANCE
-                                      * natural_scale(segment, order) for order in (1, 2))])
+        moving = [abs(float(values[order])) > JUMP_TOLERANCE * natural_scale(segment, order)
+                  for order in orders]
+        types.append(_END_TYPES[(moving[0], moving[-1] and len(moving) == 2)])
     return '-'.join(types)
 
 
