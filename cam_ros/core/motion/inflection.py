@@ -48,7 +48,7 @@ class InflectedLaw(MotionLaw):
 
     def _derivatives(self, u: FloatArray) -> LawValues:
         low = self.inflection
-        left = u <= low
+        left = u < low  # the inflection itself belongs to the decelerating side
         scale = np.where(left, 2.0 * low, 2.0 * (1.0 - low))
         z = np.where(left, u / (2.0 * low), 0.5 + (u - low) / (2.0 * (1.0 - low)))
         g = self.base._derivatives(np.clip(z, 0.0, 1.0))

@@ -307,7 +307,7 @@ class MotionProgram:
         if order is not None:
             values = LawValues(*(_ungrouped(value, order) for value in values))
         if turns is not None:
-            values.y += self.advance * turns.reshape(-1)
+            values.y[...] += self.advance * turns.reshape(-1)
         return ProgramValues(*(value.reshape(local.shape) for value in values))
 
     def _end_values(self, number: int) -> LawValues:
@@ -416,15 +416,16 @@ class MotionProgram:
 
 
 def _overshoot(segment: Segment, task: str) -> float:
-    """Return how far ds/dtheta passes the velocity of a moving (G, B) end in its direction.
+    """Return how far ds/dtheta passes the larger end |ds| in the direction of a moving end.
 
     Refined to the true peak; 0 when it stays within (below JUMP_TOLERANCE of its scale).
     """
     u = np.linspace(0.0, 1.0, OVERSHOOT_SAMPLES)
+    ends = [float(segment_values(segment, at).y1) for at in (0.0, 1.0)]
+    larger = max(abs(value) for value in ends)
     excess = 0.0
-    for at, kind in zip((0.0, 1.0), task.split('-')):
+    for velocity, kind in zip(ends, task.split('-')):
         if kind in 'GB':
-            velocity = float(segment_values(segment, at).y1)
             sign = math.copysign(1.0, velocity)
 
             def along(x: FloatArray, sign: float = sign) -> FloatArray:
@@ -432,7 +433,7 @@ def _overshoot(segment: Segment, task: str) -> float:
 
             peak, _ = refine_extremum(along, u, along(u), 'max',
                                       breaks=segment.law.breakpoints, period=None)
-            excess = max(excess, peak - abs(velocity))
+            excess = max(excess, peak - larger)
     return excess if excess > JUMP_TOLERANCE * natural_scale(segment, 1) else 0.0
 
 

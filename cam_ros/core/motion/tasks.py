@@ -78,10 +78,11 @@ def _superposed(spec: TaskSpec, index: int) -> Segment:
         actual = segment_values(segment, at)
         for order, value in enumerate(given, 1):
             scale = natural_scale(segment, order)
-            if not math.isnan(value) and abs(value - actual[order]) > MATCH_TOLERANCE * scale:
+            has = float(actual[order]) if abs(actual[order]) > MATCH_TOLERANCE * scale else 0.0
+            if not math.isnan(value) and abs(value - has) > MATCH_TOLERANCE * scale:
                 raise InvalidParameter(
                     _field(index, side, order), value,
-                    f'law {law.name} has {float(actual[order])!r} per rad^{order} there (its own '
+                    f'law {law.name} has {has!r} per rad^{order} there (its own '
                     'shape sets it); '
                     f'give poly5 (velocity, acceleration) or poly7 (and jerk) for other '
                     f'end values')
