@@ -18,7 +18,7 @@ full turn per cycle); then s(theta + 2 pi n) = s(theta) + n advance.
 import math
 import numbers
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Sequence
 
 import numpy as np
@@ -405,12 +405,13 @@ class MotionProgram:
             peaks = [amplitude * value / span ** order if amplitude else 0.0
                      for order, value in ((1, law.cv), (2, law.ca), (3, law.cj))]
             if segment.ramp:  # |ramp + amplitude y'/span| peaks where it peaks, found as cv is
-                peaks[0] = characteristic_values(
-                    lambda u, at=segment: segment_values(at, u), law.breakpoints)[0]
+                peaks[0] = characteristic_values(partial(segment_values, segment),
+                                                 law.breakpoints)[0]
             task = motion_task(segment)
             summaries.append(SegmentSummary(
                 number, law.name, segment.start, segment.end, segment.s_start, segment.s_end,
-                law.cv, law.ca, law.cj, *peaks, task, getattr(law, 'inflection', 0.5),
+                law.cv, law.ca, law.cj, peaks[0], peaks[1], peaks[2], task,
+                getattr(law, 'inflection', 0.5),
                 _overshoot(segment, task)))
         return tuple(summaries)
 
