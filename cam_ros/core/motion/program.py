@@ -480,6 +480,19 @@ def _check_segments(segments: Sequence[Segment], advance: float) -> None:
                 'the follower cannot jump')
 
 
+def check_fields(name: str, segment: object, fields: Sequence[str]) -> None:
+    """Raise InvalidParameter, naming the field, unless the fields are finite numbers and the
+    segment (a Segment or its specification) spans a positive angle."""
+    for field in fields:
+        value = getattr(segment, field)
+        if not isinstance(value, numbers.Real) or not math.isfinite(value):
+            raise InvalidParameter(f'{name}.{field}', value, 'must be a finite number')
+    start, end = getattr(segment, 'start'), getattr(segment, 'end')
+    if not end > start:
+        raise InvalidParameter(f'{name}.end', end,
+                               f'must exceed start = {start!r} rad (a positive span)')
+
+
 def _check_segment(name: str, segment: Segment) -> None:
     """Raise InvalidParameter, naming the field, unless one segment is valid on its own."""
     if not isinstance(segment, Segment):
@@ -487,13 +500,7 @@ def _check_segment(name: str, segment: Segment) -> None:
     if not isinstance(segment.law, MotionLaw):
         raise InvalidParameter(f'{name}.law', segment.law,
                                'must be a MotionLaw; make_law(name, ...) knows ' + ', '.join(LAWS))
-    for field in ('start', 'end', 's_start', 's_end', 'ramp', 'amplitude'):
-        value = getattr(segment, field)
-        if not isinstance(value, numbers.Real) or not math.isfinite(value):
-            raise InvalidParameter(f'{name}.{field}', value, 'must be a finite number')
-    if not segment.end > segment.start:
-        raise InvalidParameter(f'{name}.end', segment.end,
-                               f'must exceed start = {segment.start!r} rad (a positive span)')
+    check_fields(name, segment, ('start', 'end', 's_start', 's_end', 'ramp', 'amplitude'))
     if isinstance(segment.law, Dwell) and abs(segment.stroke) > POSITION_TOLERANCE:
         raise InvalidParameter(f'{name}.s_end', segment.s_end,
                                f'a dwell must end where it starts (s_start = {segment.s_start!r})')

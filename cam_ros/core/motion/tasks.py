@@ -26,7 +26,7 @@ from ..errors import InvalidParameter
 from ._polynomial import BoundaryPolynomial, Poly5, Poly7
 from .inflection import inflected
 from .laws import Dwell, MotionLaw
-from .program import motion_task, natural_scale, Segment, segment_values
+from .program import check_fields, motion_task, natural_scale, Segment, segment_values
 
 #: The boundary polynomials by name, and what the end fields are called.
 BOUNDARY_LAWS: dict[str, type[BoundaryPolynomial]] = {'poly5': Poly5, 'poly7': Poly7}
@@ -150,6 +150,8 @@ def _check_reversal(segment: Segment, index: int) -> None:
 
 def build_segments(specs: Sequence[TaskSpec]) -> tuple[Segment, ...]:
     """Return the segments of specs in order, every automatic end resolved (see the module)."""
+    for index, spec in enumerate(specs):
+        check_fields(f'segments[{index}]', spec, ('start', 'end', 's_start', 's_end'))
     built = {index: _superposed(spec, index) for index, spec in enumerate(specs)
              if isinstance(spec.law, MotionLaw)}
     for index, spec in enumerate(specs):
