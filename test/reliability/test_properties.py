@@ -28,7 +28,12 @@ REST_ORDER = {
     'modified_trapezoid': 2,
     'modified_sine': 2, 'polynomial': 2, 'table': 2, 'via_point': 2,
     'scca': 2,  # with b > 0; b = 0 starts and ends at full acceleration (order 1)
+    'poly5': 2, 'poly7': 3,  # drawn with all given end values 0: rest to rest (R-R)
 }
+#: The boundary polynomials at rest at both ends (unit stroke and span: the normalised law).
+AT_REST = {'poly5': {'stroke': 1.0, 'span': 1.0, 'start': (0.0, 0.0), 'end': (0.0, 0.0)},
+           'poly7': {'stroke': 1.0, 'span': 1.0, 'start': (0.0, 0.0, 0.0),
+                     'end': (0.0, 0.0, 0.0)}}
 #: End values (y'(0), y''(0), y'''(0)) and (y'(1), y''(1), y'''(1)) written out from the formulas.
 PI = math.pi
 END_VALUES = {
@@ -127,6 +132,11 @@ def programs(draw, unit_range: tuple[float, float]) -> Program:
                               'motion.table_y': [x for _, y in tables for x in y]})
     if len(tables) > 1:
         program.extra['motion.table_counts'] = [len(u) for u, _ in tables]
+    if AT_REST.keys() & set(laws):  # every end of a boundary polynomial given: rest
+        program.extra.update({f'motion.{side}_{name}': [
+            0.0 if law in AT_REST and (name != 'jerk' or law == 'poly7') else math.nan
+            for law in laws] for side in ('start', 'end')
+            for name in ('velocity', 'acceleration', 'jerk')})
     vias = [index for index, law in enumerate(laws) if law in ('via_point', 'polynomial')]
     if vias:
         fractions = [(draw(st.floats(0.15, 0.85)), draw(st.floats(0.15, 0.85))) for _ in vias]
@@ -239,6 +249,8 @@ def law_of(program: Program, index: int):
         points = slice(first, first + counts[slot])
         return make_law('table', u=extra['motion.table_u'][points],
                         y=extra['motion.table_y'][points])
+    if name in AT_REST:
+        return make_law(name, **AT_REST[name])
     if name in ('via_point', 'polynomial'):
         slot = extra['motion.via_segment'].index(index)
         span = program.end_deg[index] - program.start_deg[index]
@@ -331,6 +343,8 @@ def law_params(name: str) -> st.SearchStrategy[dict[str, Any]]:
     if name == 'via_point':
         return st.tuples(st.floats(0.05, 0.95), st.floats(0.05, 0.95)).map(
             lambda p: {'u_via': p[0], 'y_via': p[1]})
+    if name in AT_REST:
+        return st.just(AT_REST[name])
     if name == 'polynomial':
         return st.tuples(st.floats(0.05, 0.95), st.floats(0.05, 0.95)).map(
             lambda p: {'conditions': [(0.0, 0, 0.0), (0.0, 1, 0.0), (0.0, 2, 0.0),
