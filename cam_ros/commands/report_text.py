@@ -34,11 +34,16 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'cam_speed': cfg.cam_speed,
         'position_unit': unit,
         'limits': {'pressure_angle_deg': degrees(cfg.pressure_angle_limit),
+                   'pressure_angle_return_deg': degrees(cfg.pressure_angle_return_limit),
                    'min_radius_of_curvature': cfg.min_radius_of_curvature},
         'pressure_angle_max_deg': degrees(report.pressure_angle_max),
         'pressure_angle_max_at_deg': cam_degrees(report.pressure_angle_max_at),
         'pressure_angle_min_deg': degrees(report.pressure_angle_min),
         'pressure_angle_min_at_deg': cam_degrees(report.pressure_angle_min_at),
+        'pressure_angle_rise_max_deg': degrees(report.pressure_angle_rise[0]),
+        'pressure_angle_rise_max_at_deg': cam_degrees(report.pressure_angle_rise[1]),
+        'pressure_angle_return_max_deg': degrees(report.pressure_angle_return[0]),
+        'pressure_angle_return_max_at_deg': cam_degrees(report.pressure_angle_return[1]),
         'pressure_angle_ok': design.check.pressure_angle_ok,
         'radius_of_curvature_min': report.radius_of_curvature_min,
         'radius_of_curvature_min_at_deg': cam_degrees(report.radius_of_curvature_min_at),
@@ -49,6 +54,12 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'min_base_radius_governing': report.min_base_radius_governing,
         'max_base_radius': report.max_base_radius,
         'max_base_radius_governing': report.max_base_radius_governing or None,
+        'smallest_cam': None if report.smallest_cam is None else {
+            'base_radius': report.smallest_cam.base_radius,
+            'offset': report.smallest_cam.offset,
+            'prime_radius': report.smallest_cam.prime_radius,
+            'governing': report.smallest_cam.governing},
+        'max_roller_radius': report.max_roller_radius,
         'face_width': None if report.face_range is None else list(report.face_range),
         'segments': [{
             'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
@@ -234,12 +245,40 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
     ]
 
 
+def _pressure_limit_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the pressure-angle limit line(s): one limit, or the rise's and the return's."""
+    cfg, check = report.design.config, report.design.check
+    if cfg.pressure_angle_limit == cfg.pressure_angle_return_limit:
+        return [('', f'limit |pressure angle| <= {math.degrees(cfg.pressure_angle_limit):g} deg: '
+                     f'{_limit_state(check.pressure_angle_ok)}')]
+    return [('', f'{side}: max |pressure angle| {math.degrees(peak):.2f} deg at '
+                 f'{cam_degrees(at, 1):.1f} deg, limit {math.degrees(limit):g} deg: '
+                 f'{_limit_state(peak <= limit)}')
+            for side, (peak, at), limit in (
+                ('rise', report.pressure_angle_rise, cfg.pressure_angle_limit),
+                ('return', report.pressure_angle_return, cfg.pressure_angle_return_limit))]
+
+
+def _sizing_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the jointly sized cam and the largest roller (rollers only)."""
+    rows = []
+    cam = report.smallest_cam
+    if cam is not None:
+        base = 'none needed' if cam.base_radius is None else f'{number(cam.base_radius)} m'
+        rows.append(('Smallest cam', f'base radius {base} with offset {number(cam.offset)} m '
+                                     f'(prime radius {number(cam.prime_radius)} m, set by '
+                                     f'{cam.governing.replace("_", " ")})'))
+    if report.max_roller_radius is not None:
+        rows.append(('Largest roller', f'{number(report.max_roller_radius)} m on this pitch '
+                                       'curve (its smallest convex radius: undercut beyond)'))
+    return rows
+
+
 def format_report(report: DesignReport, config: str) -> str:
     """Return the readable report `cam_ros report` prints."""
     design = report.design
     cfg = design.config
     check = design.check
-    limit = math.degrees(cfg.pressure_angle_limit)
     sense = 'clockwise' if cfg.clockwise else 'counter-clockwise'
     rows = [
         ('Follower', _follower_line(design)),
@@ -250,7 +289,7 @@ def format_report(report: DesignReport, config: str) -> str:
                            f'{cam_degrees(report.pressure_angle_max_at, 1):.1f} deg, min '
                            f'{math.degrees(report.pressure_angle_min):.2f} deg at '
                            f'{cam_degrees(report.pressure_angle_min_at, 1):.1f} deg'),
-        ('', f'limit |pressure angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
+        *_pressure_limit_rows(report),
         ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m '
                                 f'at {cam_degrees(report.radius_of_curvature_min_at, 1):.1f} deg'),
         ('', f'limit >= {number(cfg.min_radius_of_curvature)} m: '
@@ -263,6 +302,7 @@ def format_report(report: DesignReport, config: str) -> str:
                            f'{report.min_base_radius_governing.replace("_", " ")})'
                            if report.min_base_radius is not None else 'none found')),
     ]
+    rows += _sizing_rows(report)
     if report.max_base_radius is not None:
         rows.append(('', f'largest meeting the limits: {number(report.max_base_radius)} m (set by '
                          f'{report.max_base_radius_governing.replace("_", " ")})'))

@@ -112,7 +112,8 @@ class CamDesign:
         """Check the design against its limits: extremes refined from a dense sampling."""
         return check_geometry(self.geometry(), max_pressure_angle=self.config.pressure_angle_limit,
                               min_radius=self.config.min_radius_of_curvature,
-                              program=self.surface)
+                              program=self.surface,
+                              max_pressure_angle_return=self.config.pressure_angle_return_limit)
 
     @cached_property
     def dynamics_check(self) -> DynamicsReport | None:
@@ -152,10 +153,16 @@ class CamDesign:
     def warnings(self) -> list[str]:
         """Say, once, what a designer must know: limits broken, undercut, discontinuities, jump."""
         check, notes = self.check, []
-        if check.pressure_angle_ok is False:
-            notes.append(f'pressure angle reaches {math.degrees(check.max_pressure_angle):.2f} deg'
-                         f' at {math.degrees(check.max_pressure_angle_at):.1f} deg, over the '
-                         f'limit of {math.degrees(self.config.pressure_angle_limit):.1f} deg')
+        rise, ret = self.config.pressure_angle_limit, self.config.pressure_angle_return_limit
+        sides = ((('', (check.max_pressure_angle, check.max_pressure_angle_at), rise),)
+                 if rise == ret else
+                 (('on the rise ', check.pressure_angle_rise, rise),
+                  ('on the return ', check.pressure_angle_return, ret)))
+        for side, (peak, at), limit in sides:
+            if peak > limit:
+                notes.append(f'pressure angle {side}reaches {math.degrees(peak):.2f} deg at '
+                             f'{math.degrees(at):.1f} deg, over the limit of '
+                             f'{math.degrees(limit):.1f} deg')
         if check.radius_ok is False:
             notes.append(f'radius of curvature falls to {check.min_radius:.6g} m at '
                          f'{math.degrees(check.min_radius_at):.1f} deg, under the limit of '

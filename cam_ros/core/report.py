@@ -17,6 +17,7 @@ from .design import CamDesign
 from .extremes import CHECK_SAMPLES
 from .dynamics.report import DynamicsReport
 from .geometry.followers import TranslatingRoller
+from .geometry.joint_sizing import SmallestCam, smallest_cam
 from .motion.program import Discontinuity, SegmentSummary
 from .geometry.sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
 
@@ -45,6 +46,12 @@ class DesignReport:
     does), governing says which limit sets it; max_base_radius is the upper end of that feasible
     interval where the base radius is bounded (oscillating followers; None otherwise); face_range
     is the signed interval (m) of contact offsets a flat face must cover (None for rollers).
+    pressure_angle_rise/return are each side's largest |pressure angle| and where (check.py).
+    smallest_cam is the smallest translating-roller cam meeting both pressure-angle limits with
+    base radius and offset chosen together (joint_sizing.py; None for other followers or when
+    the limits bound nothing); max_roller_radius is the largest roller radius that avoids
+    undercut on this pitch curve: its smallest convex radius (m, inf if none; None for flat
+    faces).
     """
 
     design: CamDesign
@@ -66,6 +73,10 @@ class DesignReport:
     quick_estimate: Optional[QuickEstimate]
     warnings: tuple[str, ...]
     dynamics: Optional[DynamicsReport] = None  # None: the design has no dynamics
+    pressure_angle_rise: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_return: tuple[float, float] = (math.nan, math.nan)
+    smallest_cam: Optional[SmallestCam] = None
+    max_roller_radius: Optional[float] = None
 
     @property
     def ok(self) -> bool:
@@ -95,6 +106,7 @@ def design_report(design: CamDesign) -> DesignReport:
     sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
                               clockwise=design.clockwise,
                               max_pressure_angle=design.config.pressure_angle_limit,
+                              max_pressure_angle_return=design.config.pressure_angle_return_limit,
                               min_radius=design.config.min_radius_of_curvature,
                               program=design.surface)
     face = None if check.face_min is None or check.face_max is None \
@@ -119,4 +131,19 @@ def design_report(design: CamDesign) -> DesignReport:
         quick_estimate=quick_estimate(design),
         warnings=tuple(design.warnings()),
         dynamics=design.dynamics_check,
+        pressure_angle_rise=check.pressure_angle_rise,
+        pressure_angle_return=check.pressure_angle_return,
+        smallest_cam=_smallest_cam(design),
+        max_roller_radius=check.pitch_convex_radius_min,
     )
+
+
+def _smallest_cam(design: CamDesign) -> Optional[SmallestCam]:
+    """Return the jointly sized cam of a translating roller design, else None."""
+    follower = design.follower
+    if not isinstance(follower, TranslatingRoller):
+        return None
+    return smallest_cam(follower.roller_radius, design.surface,
+                        max_pressure_angle=design.config.pressure_angle_limit,
+                        max_pressure_angle_return=design.config.pressure_angle_return_limit,
+                        clockwise=design.clockwise)

@@ -121,8 +121,12 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('motion.table_y', 'double_array', [], 'Normalised rise 0..1 of the table law'),
     _p('motion.table_counts', 'integer_array', [], 'How many of the table_u/table_y points '
        'belong to each table segment, in segment order (needed with two or more)'),
-    _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
+    _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle| on the '
+       'rise (ds/dtheta >= 0; on the return too unless pressure_angle_return_deg is given)',
        unit='deg', minimum=1.0, maximum=89.0),
+    _p('limits.pressure_angle_return_deg', 'double', 0.0, 'Largest allowed |pressure angle| on '
+       'the return (ds/dtheta <= 0; 0: pressure_angle_deg)', unit='deg', minimum=0.0,
+       maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
        'of the cam surface where convex', unit='length_unit', minimum=0.0),
     _p('limits.contact_stress', 'double', 0.0, 'Allowable Hertz peak contact pressure p0 '
@@ -248,7 +252,8 @@ class CamConfig:
     cam_speed: float
     follower: FollowerConfig
     motion: MotionConfig
-    pressure_angle_limit: float
+    pressure_angle_limit: float  # rad, the rise's (and the return's unless given)
+    pressure_angle_return_limit: float  # rad
     min_radius_of_curvature: float
     allow_velocity_jumps: bool
     sample_count: int
@@ -390,6 +395,8 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         follower=follower,
         motion=motion,
         pressure_angle_limit=math.radians(values['limits.pressure_angle_deg']),
+        pressure_angle_return_limit=math.radians(values['limits.pressure_angle_return_deg']
+                                                 or values['limits.pressure_angle_deg']),
         min_radius_of_curvature=values['limits.min_radius_of_curvature'] * metre,
         allow_velocity_jumps=values['limits.allow_velocity_jumps'],
         sample_count=values['output.sample_count'],

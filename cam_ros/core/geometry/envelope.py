@@ -76,7 +76,11 @@ def roller_profile(theta: Array, sigma: int, centre: Array, d_centre: Array, d2_
 
 
 class Profile:
-    """Raw fixed-frame results of one follower, turned into the cam frame on demand."""
+    """Raw fixed-frame results of one follower, turned into the cam frame on demand.
+
+    ds is the motion's ds/dtheta, set by a caller that splits the pressure angle into rise and
+    return (see check.py); None until then.
+    """
 
     def __init__(self, theta: Array, sigma: int, pitch: Array, contact: Array, angle: Array,
                  pitch_curvature: Array, surface_radius: Array, offset: Optional[Array]):
@@ -86,6 +90,7 @@ class Profile:
         self.pitch_curvature = pitch_curvature
         self.surface_radius = surface_radius
         self.contact_offset = offset
+        self.ds: Optional[Array] = None
 
     @property
     def pitch(self) -> Array:
