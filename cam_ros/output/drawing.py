@@ -19,7 +19,7 @@ EXPORT_SAMPLES = 3600
 MIN_SAMPLES = 3
 CSV_HEADER = 'x_mm,y_mm'
 DXF_LAYER = 'CAM_SURFACE'
-DXF_INSUNITS_MM = 4  # $INSUNITS code of millimetres
+DXF_INSUNITS = {'mm': 4, 'in': 1}  # $INSUNITS codes
 SVG_MARGIN_MM = 2.0
 SVG_STROKE_MM = 0.1
 
@@ -37,16 +37,16 @@ def write_csv(path: Path, points: np.ndarray) -> None:
     np.savetxt(path, points, fmt='%.9f', delimiter=',', header=CSV_HEADER, comments='')
 
 
-def write_dxf(path: Path, points: np.ndarray) -> None:
-    """Write points (mm) as one closed LWPOLYLINE in a DXF whose $INSUNITS is millimetres."""
+def write_dxf(path: Path, points: np.ndarray, unit: str = 'mm', layer: str = DXF_LAYER) -> None:
+    """Write points (in unit: mm or in) as one closed LWPOLYLINE on layer, $INSUNITS set."""
     import ezdxf
 
     document = ezdxf.new('R2010')
-    document.header['$INSUNITS'] = DXF_INSUNITS_MM
-    document.header['$MEASUREMENT'] = 1  # metric
-    document.layers.add(DXF_LAYER)
+    document.header['$INSUNITS'] = DXF_INSUNITS[unit]
+    document.header['$MEASUREMENT'] = int(unit == 'mm')  # 1 metric, 0 imperial
+    document.layers.add(layer)
     document.modelspace().add_lwpolyline(points.tolist(), format='xy', close=True,
-                                         dxfattribs={'layer': DXF_LAYER})
+                                         dxfattribs={'layer': layer})
     document.saveas(path)
 
 

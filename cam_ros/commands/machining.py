@@ -1,0 +1,71 @@
+"""`cam_ros export --machining`: the cutter path or the nominal contour of a design."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from cam_ros.commands.common import load_design, number, verdict, writing
+from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core.config.quantity import typed_quantity
+from cam_ros.core.geometry.machining import cam_contour, check_cutter, place_points
+from cam_ros.core.program_from_config import in_file_units
+from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
+
+
+def _length(option: str, text: str, design: CamDesign) -> float:
+    """Return a typed length option (bare: length_unit) in m, > 0."""
+    value = typed_quantity(option, text, design.config.length_unit, angular=False)
+    if value <= 0.0:
+        raise InvalidParameter(option, text, 'must be > 0')
+    return value
+
+
+def _restated(err: InvalidParameter, option: str, text: str,
+              design: CamDesign) -> InvalidParameter:
+    """Return a core error about a length option, quoted as typed and in the file's units."""
+    return InvalidParameter(option, text, in_file_units(err.rule, design.config))
+
+
+def export_machining(config: str, output: str, cutter_radius: str | None,
+                     tolerance: str | None, file_format: str,
+                     compensation: str | None) -> int:
+    """Write the cutter path (gcode, dxf) or the nominal contour (csv, gcode with G41/G42)."""
+    if file_format not in MACHINING_FORMATS:
+        raise InvalidParameter('--format', file_format, 'a cutter path takes one of '
+                               + ', '.join(MACHINING_FORMATS))
+    if compensation is not None and file_format != 'gcode':
+        raise InvalidParameter('--compensation', compensation, 'applies to --format gcode')
+    if tolerance is None:
+        raise InvalidParameter('--tolerance', None, 'is required with --machining (the chordal '
+                                                    'tolerance, in length_unit)')
+    if cutter_radius is None and file_format != 'csv':
+        raise InvalidParameter('--cutter-radius', None, f'is required with --format '
+                                                        f'{file_format}')
+    design = load_design(config)
+    if design.check.undercut:
+        raise InvalidParameter('--machining', True, 'the cam surface is undercut (see `cam_ros '
+                                                    'report`): it has no cutter path')
+    unit = 'in' if design.config.length_unit == 'in' else 'mm'
+    limit = _length('--tolerance', tolerance, design)
+    radius = None if cutter_radius is None else _length('--cutter-radius', cutter_radius, design)
+    contour = cam_contour(design.follower, design.surface, design.clockwise)
+    if radius is not None:
+        try:
+            check_cutter(contour, radius, '--cutter-radius')
+        except InvalidParameter as err:
+            raise _restated(err, '--cutter-radius', cutter_radius or '', design) from err
+    nominal = file_format == 'csv' or compensation is not None
+    try:
+        path = place_points(contour if nominal else contour.offset(radius or 0.0), limit,
+                            resolution(unit))
+    except InvalidParameter as err:
+        raise _restated(err, '--tolerance', tolerance, design) from err
+    about = PathFile(Path(config).name, unit, radius, nominal, compensation)
+    target = Path(output)
+    with writing('export', f'writing {target}', target):
+        write_path(target, file_format, path, about)
+    per_metre = UNITS[unit][0]
+    what = 'nominal contour' if nominal else 'cutter path'
+    print(f'wrote {target}: {what} of {len(path.points)} points ({file_format}, {unit}), worst '
+          f'chordal deviation {number(path.worst_deviation * per_metre)} {unit} within '
+          f'{number(limit * per_metre)} {unit}')
+    return verdict('export', design)
