@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .config.schema import LENGTH_UNITS, CamConfig
+from .dynamics.flanks import roller_side, side_loads, SideLoads
 from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
@@ -23,8 +24,10 @@ from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
 from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                  TranslatingRoller)
+from .geometry.envelope import Profile
 from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
+from .geometry.closure import closure_check, ClosureCheck, conjugate_follower
 from .motion.program import Discontinuity, MotionProgram
 from .program_from_config import build_program, in_file_units
 
@@ -139,13 +142,44 @@ class CamDesign:
         """
         return tuple(jump for jump in self.program.continuity_report() if jump.order == 1)
 
+    @cached_property
+    def closure(self) -> ClosureCheck | None:
+        """Return the second side of a form-closed cam (closure.py), None for force closure."""
+        f = self.config.follower
+        return closure_check(f.closure, self.follower, self.clockwise, self.check, self.surface,
+                             clearance=f.groove_clearance, conjugate_angle=f.conjugate_angle)
+
+    @cached_property
+    def side_loads(self) -> SideLoads | None:
+        """Return which side of a form-closed cam carries the load where (with dynamics)."""
+        closure, model = self.closure, self.dynamics
+        if closure is None or model is None:
+            return None
+        if closure.second_follower is not None:
+            first = roller_side(self.follower, self.clockwise, _cam_surface_radius)
+            second = roller_side(closure.second_follower, self.clockwise, _cam_surface_radius)
+        else:
+            half = cast(float, getattr(self.follower, 'roller_radius')) \
+                + 0.5 * self.config.follower.groove_clearance
+            first = roller_side(self.follower, self.clockwise,
+                                lambda profile: 1.0 / profile.pitch_curvature - half)
+            second = roller_side(self.follower, self.clockwise,
+                                 lambda profile: -(1.0 / profile.pitch_curvature + half))
+        return side_loads(model, self.program, first, second)
+
     @property
     def ok(self) -> bool:
         """Return True when the design meets its limits, is not undercut and does not jump.
 
         A velocity jump at a joint fails it too, unless limits.allow_velocity_jumps is true.
+        A form-closed cam cannot jump: its sides must not be undercut, cam 2 must meet the
+        limits and each side's stress the allowable.
         """
-        dynamics, vibration = self.dynamics_check, self.vibration_check
+        dynamics, vibration, closure = self.dynamics_check, self.vibration_check, self.closure
+        if closure is not None:
+            loads = self.side_loads
+            return (self.check.ok and closure.ok and (loads is None or loads.ok)
+                    and (self.config.allow_velocity_jumps or not self.velocity_jumps))
         return (self.check.ok and (dynamics is None or dynamics.ok)
                 and (vibration is None or not vibration.leaves_cam)
                 and (self.config.allow_velocity_jumps or not self.velocity_jumps))
@@ -179,6 +213,8 @@ class CamDesign:
                              f'{math.degrees(jump.angle):.2f} deg'
                              + _VELOCITY_JUMP_NOTE[jump.order == 1
                                                    and not self.config.allow_velocity_jumps])
+        if self.closure is not None:
+            return notes + self._closure_warnings()
         notes += self._vibration_warnings()
         dynamics = self.dynamics_check
         if dynamics is None:
@@ -195,6 +231,31 @@ class CamDesign:
                          if math.isnan(dynamics.contact_stress_max) else
                          f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
                          f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
+        return notes
+
+    def _closure_warnings(self) -> list[str]:
+        """Say which side of a form-closed cam is undercut, breaks a limit or is overloaded."""
+        closure, notes = cast(ClosureCheck, self.closure), list[str]()
+        for name, side in closure.sides.items():
+            if side.undercut:
+                notes.append(f'the {name} {"flank" if closure.closure == "groove" else "cam"} is '
+                             f'undercut (at {cam_degrees(side.at, 1):.1f} deg)')
+        second = closure.second
+        if second is not None and second.pressure_angle_ok is False:
+            notes.append(f'the second cam\'s pressure angle reaches '
+                         f'{math.degrees(second.max_pressure_angle):.2f} deg at '
+                         f'{cam_degrees(second.max_pressure_angle_at, 1):.1f} deg, over its limit')
+        if second is not None and second.radius_ok is False:
+            notes.append(f'the second cam\'s radius of curvature falls to '
+                         f'{second.min_radius:.6g} m, under the limit')
+        loads = self.side_loads
+        limit = None if loads is None else loads.contact_stress_limit
+        for name, load in zip(closure.sides, () if loads is None else loads.sides):
+            if limit is not None and not load.contact_stress_max <= limit:
+                notes.append(f'contact stress on the {name} side reaches '
+                             f'{load.contact_stress_max / 1e6:.6g} MPa at '
+                             f'{cam_degrees(load.contact_stress_max_at, 1):.1f} deg, over the '
+                             f'allowable {limit / 1e6:.6g} MPa')
         return notes
 
     def _vibration_warnings(self) -> list[str]:
@@ -226,6 +287,11 @@ class CamDesign:
                 f'{self.config.cam_speed:g} rad/s: {laws}; max |pressure angle| '
                 f'{math.degrees(check.max_pressure_angle):.2f} deg, min radius of curvature '
                 f'{check.min_radius:.6g} m')
+
+
+def _cam_surface_radius(profile: Profile) -> np.ndarray:
+    """Return a cam's own surface radius, seen from its roller (a conjugate cam's side)."""
+    return profile.surface_radius
 
 
 def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
@@ -281,7 +347,26 @@ def build_design(config: CamConfig) -> CamDesign:
         design.geometry()  # the follower must be able to follow the motion everywhere
     except InvalidParameter as err:
         raise _at_cam_angle(err, program, config) from err
+    if config.follower.closure == 'conjugate':
+        _check_second_cam(design)
     return design
+
+
+def _check_second_cam(design: CamDesign) -> None:
+    """Check that the conjugate pair's second roller can follow the motion everywhere."""
+    f = design.config.follower
+    name, value = (('follower.conjugate_angle_deg', math.degrees(f.conjugate_angle))
+                   if design.config.oscillating else ('follower.closure', f.closure))
+    try:
+        second = conjugate_follower(design.follower, design.surface, f.conjugate_angle)
+        theta = np.linspace(0.0, TWO_PI, CHECK_SAMPLES, endpoint=False)
+        motion = design.surface.evaluate(theta)
+        problem = second._motion_problem(motion.s, motion.ds)
+    except InvalidParameter as err:
+        raise InvalidParameter(name, value, in_file_units(err.rule, design.config)) from err
+    if problem is not None:
+        raise InvalidParameter(name, value, 'the second roller cannot follow the motion: '
+                               + in_file_units(problem.rule, design.config))
 
 
 def _at_cam_angle(err: InvalidParameter, program: MotionProgram,

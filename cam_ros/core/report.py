@@ -50,8 +50,7 @@ class DesignReport:
     smallest_cam is the smallest translating-roller cam meeting both pressure-angle limits with
     base radius and offset chosen together (joint_sizing.py; None for other followers or when
     the limits bound nothing); max_roller_radius is the largest roller radius that avoids
-    undercut on this pitch curve: its smallest convex radius (m, inf if none; None for flat
-    faces).
+    undercut on this pitch curve (see max_roller_radius; m, inf if none; None for flat faces).
     """
 
     design: CamDesign
@@ -134,8 +133,23 @@ def design_report(design: CamDesign) -> DesignReport:
         pressure_angle_rise=check.pressure_angle_rise,
         pressure_angle_return=check.pressure_angle_return,
         smallest_cam=_smallest_cam(design),
-        max_roller_radius=check.pitch_convex_radius_min,
+        max_roller_radius=max_roller_radius(design),
     )
+
+
+def max_roller_radius(design: CamDesign) -> Optional[float]:
+    """Return the largest roller radius without undercut on this pitch curve (m; None: flat).
+
+    The pitch curve's smallest convex radius; a groove's roller also meets the outer flank,
+    so its smallest concave radius bounds it too, less half the groove's clearance.
+    """
+    check = design.check
+    if check.pitch_convex_radius_min is None or check.pitch_concave_radius_min is None:
+        return None
+    if design.config.follower.closure != 'groove':
+        return check.pitch_convex_radius_min
+    return (min(check.pitch_convex_radius_min, check.pitch_concave_radius_min)
+            - 0.5 * design.config.follower.groove_clearance)
 
 
 def _smallest_cam(design: CamDesign) -> Optional[SmallestCam]:

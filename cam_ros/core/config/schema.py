@@ -40,6 +40,7 @@ LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
 FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller',
                   'oscillating_flat')
 ROTATIONS = ('clockwise', 'counterclockwise')
+CLOSURES = ('force', 'groove', 'conjugate')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
 REQUIRED = object()  # default of a parameter the file must give
 #: Largest length (m) a config may give: far beyond any cam, and small enough that products of
@@ -102,6 +103,14 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        '(oscillating flat-faced)', unit='length_unit'),
     _p('follower.arm_turns_with_cam', 'bool', False, 'Oscillating arm turns in the cam\'s sense '
        'while it rises'),
+    _p('follower.closure', 'string', 'force', 'What keeps the roller on the cam: a spring '
+       '(force), a groove both flanks of which guide it, or a second, conjugate cam',
+       choices=CLOSURES),
+    _p('follower.groove_clearance', 'double', 0.0, 'Groove width minus the roller diameter '
+       '(closure: groove)', unit='length_unit', minimum=0.0),
+    _p('follower.conjugate_angle_deg', 'double', 0.0, 'Angle between the two arms of an '
+       'oscillating conjugate follower (closure: conjugate)', unit='deg', minimum=0.0,
+       maximum=180.0),
     _p('motion.laws', 'string_array', REQUIRED, 'Motion law of each segment'),
     _p('motion.start_deg', 'double_array', REQUIRED, 'Cam angle where each segment starts',
        unit='deg'),
@@ -223,6 +232,9 @@ class FollowerConfig:
     arm_length: float
     face_offset: float
     arm_turns_with_cam: bool
+    closure: str = 'force'  # form-closed: 'groove' or 'conjugate' (rollers only)
+    groove_clearance: float = 0.0  # m
+    conjugate_angle: float = 0.0  # rad, oscillating conjugate followers
 
 
 @dataclass(frozen=True)
@@ -368,7 +380,8 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         roller_radius=length('roller_radius'), offset=length('offset'),
         pivot_distance=length('pivot_distance'), arm_length=length('arm_length'),
         face_offset=length('face_offset'),
-        arm_turns_with_cam=values['follower.arm_turns_with_cam'])
+        arm_turns_with_cam=values['follower.arm_turns_with_cam'],
+        **_closure(values, metre))
     radian = math.radians(1.0)
     motion = MotionConfig(
         laws=values['motion.laws'],
@@ -411,6 +424,35 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
                                                          'dynamics.mass'))),
         parameters=dict(values),
     )
+
+
+def _closure(values: Mapping[str, Any], metre: float) -> dict[str, Any]:
+    """Return the follower's closure fields after the rules that span parameters.
+
+    A form-closed cam guides a roller from both sides, so it takes no return spring.
+    """
+    closure = values['follower.closure']
+    if closure != 'force':
+        if not values['follower.type'].endswith('roller'):
+            raise InvalidParameter('follower.closure', closure,
+                                   f'needs a roller follower, not {values["follower.type"]}')
+        for spring in ('dynamics.spring_rate', 'dynamics.spring_preload'):
+            if values[spring]:
+                raise InvalidParameter(spring, values[spring], f'a {closure} cam needs no '
+                                       'return spring (the other flank or cam closes it): '
+                                       'use 0.0')
+    if values['follower.groove_clearance'] and closure != 'groove':
+        raise InvalidParameter('follower.groove_clearance', values['follower.groove_clearance'],
+                               'applies to follower.closure: groove only')
+    if values['follower.conjugate_angle_deg'] and not (
+            closure == 'conjugate' and values['follower.type'] == 'oscillating_roller'):
+        raise InvalidParameter('follower.conjugate_angle_deg',
+                               values['follower.conjugate_angle_deg'],
+                               'applies to an oscillating_roller with follower.closure: '
+                               'conjugate only')
+    return {'closure': closure,
+            'groove_clearance': values['follower.groove_clearance'] * metre,
+            'conjugate_angle': math.radians(values['follower.conjugate_angle_deg'])}
 
 
 def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:

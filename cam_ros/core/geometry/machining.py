@@ -56,6 +56,18 @@ class Contour:
             return points + distance * normals, normals, curvature / (1.0 + distance * curvature)
         return Contour(evaluate, self.breaks)
 
+    def flipped(self) -> Contour:
+        """Return the same curve with its normals (and so its curvature's sign) turned over.
+
+        The outer flank of a groove is cut from inside the groove: its outward side is there.
+        """
+        inner = self.evaluate
+
+        def evaluate(theta: Array) -> tuple[Array, Array, Array]:
+            points, normals, curvature = inner(theta)
+            return points, -normals, -curvature
+        return Contour(evaluate, self.breaks)
+
 
 def cam_contour(follower: Follower, program: MotionProgram, clockwise: bool) -> Contour:
     """Return the cam surface of a follower driven by program as a Contour (cam frame)."""
