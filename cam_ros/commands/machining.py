@@ -6,7 +6,7 @@ from pathlib import Path
 from cam_ros.commands.common import load_design, number, verdict, writing
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.config.quantity import typed_quantity
-from cam_ros.core.geometry.machining import cam_contour, check_cutter, place_points
+from cam_ros.core.geometry.machining import Contour, cutter_contours, place_points
 from cam_ros.core.program_from_config import in_file_units
 from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
 
@@ -41,31 +41,43 @@ def export_machining(config: str, output: str, cutter_radius: str | None,
         raise InvalidParameter('--cutter-radius', None, f'is required with --format '
                                                         f'{file_format}')
     design = load_design(config)
-    if design.check.undercut:
+    closure = design.closure
+    if design.check.undercut or (closure is not None and any(
+            side.undercut for side in closure.sides.values())):
         raise InvalidParameter('--machining', True, 'the cam surface is undercut (see `cam_ros '
                                                     'report`): it has no cutter path')
     unit = 'in' if design.config.length_unit == 'in' else 'mm'
     limit = _length('--tolerance', tolerance, design)
     radius = None if cutter_radius is None else _length('--cutter-radius', cutter_radius, design)
-    contour = cam_contour(design.follower, design.surface, design.clockwise)
-    if radius is not None:
-        try:
-            check_cutter(contour, radius, '--cutter-radius')
-        except InvalidParameter as err:
-            raise _restated(err, '--cutter-radius', cutter_radius or '', design) from err
     nominal = file_format == 'csv' or compensation is not None
+    contours, lead = _contours(design, radius, nominal, cutter_radius or '')
     try:
-        path = place_points(contour if nominal else contour.offset(radius or 0.0), limit,
-                            resolution(unit))
+        paths = {name: place_points(contour, limit, resolution(unit))
+                 for name, contour in contours.items()}
     except InvalidParameter as err:
         raise _restated(err, '--tolerance', tolerance, design) from err
-    about = PathFile(Path(config).name, unit, radius, nominal, compensation)
+    about = PathFile(Path(config).name, unit, radius, nominal, compensation, lead)
     target = Path(output)
     with writing('export', f'writing {target}', target):
-        write_path(target, file_format, path, about)
+        write_path(target, file_format, paths, about)
     per_metre = UNITS[unit][0]
-    what = 'nominal contour' if nominal else 'cutter path'
-    print(f'wrote {target}: {what} of {len(path.points)} points ({file_format}, {unit}), worst '
-          f'chordal deviation {number(path.worst_deviation * per_metre)} {unit} within '
-          f'{number(limit * per_metre)} {unit}')
+    what = ('nominal contour' if nominal else 'cutter path') + ('s' if len(paths) > 1 else '')
+    count = ' + '.join(str(len(path.points)) for path in paths.values())
+    worst = max(path.worst_deviation for path in paths.values())
+    print(f'wrote {target}: {what} of {count} points ({file_format}, {unit}), worst chordal '
+          f'deviation {number(worst * per_metre)} {unit} within {number(limit * per_metre)} '
+          f'{unit}')
     return verdict('export', design)
+
+
+def _contours(design: CamDesign, radius: float | None, nominal: bool,
+              typed: str) -> tuple[dict[str, Contour], float]:
+    """Return cutter_contours' contours and lead-in, errors naming --cutter-radius as typed."""
+    half = None
+    if design.config.follower.closure == 'groove':
+        half = (getattr(design.follower, 'roller_radius')
+                + 0.5 * design.config.follower.groove_clearance)
+    try:
+        return cutter_contours(design.contours(), radius, nominal, half, '--cutter-radius')
+    except InvalidParameter as err:
+        raise _restated(err, '--cutter-radius', typed, design) from err

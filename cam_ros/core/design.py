@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .config.schema import LENGTH_UNITS, CamConfig
-from .dynamics.flanks import roller_side, side_loads, SideLoads
+from .dynamics.flanks import form_closed_loads, SideLoads
 from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
@@ -24,14 +24,16 @@ from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
 from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                  TranslatingRoller)
-from .geometry.envelope import Profile
 from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
-from .geometry.closure import closure_check, ClosureCheck, conjugate_follower
+from .geometry.closure import (closure_check, ClosureCheck, conjugate_follower, groove_contours,
+                               second_roller_problem)
+from .geometry.machining import cam_contour, Contour
 from .motion.program import Discontinuity, MotionProgram
 from .program_from_config import build_program, in_file_units
 
 TWO_PI = 2.0 * math.pi
+RollerFollower = TranslatingRoller | OscillatingRoller
 #: Added to a velocity jump's warning: it fails the verdict unless the config allows it.
 _VELOCITY_JUMP_NOTE = ('', ' (an infinite acceleration: set limits.allow_velocity_jumps: true '
                            'to accept it)')
@@ -142,6 +144,22 @@ class CamDesign:
         """
         return tuple(jump for jump in self.program.continuity_report() if jump.order == 1)
 
+    def contours(self) -> dict[str, Contour]:
+        """Return the cam's working curves, exact in the cam angle (cam frame, machining.py).
+
+        'surface'; a groove's 'inner' and 'outer' flanks (normals into the groove); a conjugate
+        pair's 'first' and 'second' cams.
+        """
+        f = self.config.follower
+        if f.closure == 'groove':
+            return groove_contours(cast(RollerFollower, self.follower), self.surface,
+                                   self.clockwise, f.groove_clearance)
+        first = cam_contour(self.follower, self.surface, self.clockwise)
+        if f.closure == 'force':
+            return {'surface': first}
+        second = conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+        return {'first': first, 'second': cam_contour(second, self.surface, self.clockwise)}
+
     @cached_property
     def closure(self) -> ClosureCheck | None:
         """Return the second side of a form-closed cam (closure.py), None for force closure."""
@@ -155,17 +173,8 @@ class CamDesign:
         closure, model = self.closure, self.dynamics
         if closure is None or model is None:
             return None
-        if closure.second_follower is not None:
-            first = roller_side(self.follower, self.clockwise, _cam_surface_radius)
-            second = roller_side(closure.second_follower, self.clockwise, _cam_surface_radius)
-        else:
-            half = cast(float, getattr(self.follower, 'roller_radius')) \
-                + 0.5 * self.config.follower.groove_clearance
-            first = roller_side(self.follower, self.clockwise,
-                                lambda profile: 1.0 / profile.pitch_curvature - half)
-            second = roller_side(self.follower, self.clockwise,
-                                 lambda profile: -(1.0 / profile.pitch_curvature + half))
-        return side_loads(model, self.program, first, second)
+        return form_closed_loads(model, self.program, self.follower, self.clockwise,
+                                 closure.second_follower, self.config.follower.groove_clearance)
 
     @property
     def ok(self) -> bool:
@@ -289,11 +298,6 @@ class CamDesign:
                 f'{check.min_radius:.6g} m')
 
 
-def _cam_surface_radius(profile: Profile) -> np.ndarray:
-    """Return a cam's own surface radius, seen from its roller (a conjugate cam's side)."""
-    return profile.surface_radius
-
-
 def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
     """Return a cam angle (rad) in degrees rounded to digits: in [0, 360), or (0, 360] for an end.
 
@@ -357,16 +361,9 @@ def _check_second_cam(design: CamDesign) -> None:
     f = design.config.follower
     name, value = (('follower.conjugate_angle_deg', math.degrees(f.conjugate_angle))
                    if design.config.oscillating else ('follower.closure', f.closure))
-    try:
-        second = conjugate_follower(design.follower, design.surface, f.conjugate_angle)
-        theta = np.linspace(0.0, TWO_PI, CHECK_SAMPLES, endpoint=False)
-        motion = design.surface.evaluate(theta)
-        problem = second._motion_problem(motion.s, motion.ds)
-    except InvalidParameter as err:
-        raise InvalidParameter(name, value, in_file_units(err.rule, design.config)) from err
+    problem = second_roller_problem(design.follower, design.surface, f.conjugate_angle)
     if problem is not None:
-        raise InvalidParameter(name, value, 'the second roller cannot follow the motion: '
-                               + in_file_units(problem.rule, design.config))
+        raise InvalidParameter(name, value, in_file_units(problem, design.config))
 
 
 def _at_cam_angle(err: InvalidParameter, program: MotionProgram,

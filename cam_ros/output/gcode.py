@@ -2,10 +2,11 @@
 
 Coordinates are the cam frame of the surface export (origin at the cam centre, the cam at
 theta = 0 as the DXF export draws it), in mm (G21) or, for a config in inches, in inches
-(G20), written to MACHINING_DECIMALS digits (the core rounds the points to that grid and counts
-it in the worst deviation). The contour runs clockwise around the cam (an outside contour
-with the cutter on the left of its path: climb milling with a spindle turning M3), or
-counter-clockwise with --compensation right (G42: the cutter on the right).
+(G20), written to the decimals of UNITS (the core rounds the points to that grid and counts it
+in the worst deviation). Each contour is cut with the cutter on the left of its path (climb
+milling with a spindle turning M3): an outside contour runs clockwise, one cut from inside (a
+groove's outer flank) counter-clockwise; --compensation right (G42) puts the cutter on the
+right and reverses both. A groove or a conjugate pair has two contours, one after the other.
 """
 from __future__ import annotations
 
@@ -21,7 +22,9 @@ from cam_ros.core.geometry.machining import ToolPath
 MACHINING_FORMATS = ('gcode', 'csv', 'dxf')
 #: Per output unit: factor from m, G-code unit word, decimals written.
 UNITS = {'mm': (1000.0, 'G21', 4), 'in': (1.0 / 0.0254, 'G20', 5)}
-LAYERS = {False: 'CUTTER_PATH', True: 'CAM_NOMINAL'}
+TITLES = {'surface': 'CAM SURFACE', 'inner': 'INNER FLANK', 'outer': 'OUTER FLANK',
+          'pitch': 'PITCH CURVE, A CUTTER OF THE GROOVE WIDTH', 'first': 'FIRST CAM',
+          'second': 'SECOND CAM'}
 
 
 def resolution(unit: str) -> float:
@@ -32,23 +35,33 @@ def resolution(unit: str) -> float:
 
 @dataclass(frozen=True)
 class PathFile:
-    """What the header of a cutter-path file states (lengths in m)."""
+    """What a cutter-path file states and how it leads in (lengths in m).
+
+    lead: how far along the first point's normal the cutter starts (clear of the cam, or in
+    the middle of a groove).
+    """
 
     name: str  # the config file the cam comes from
     unit: str  # 'mm' or 'in'
     cutter_radius: Optional[float]
     nominal: bool  # True: the nominal contour (CSV, or G-code with compensation)
     compensation: Optional[str] = None  # 'left' (G41), 'right' (G42) or None
+    lead: float = 0.0
 
 
-def _oriented(path: ToolPath, counterclockwise: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Return the points and normals running the wanted way round, the first point first."""
-    x, y = path.points[:, 0], path.points[:, 1]
+def _oriented(path: ToolPath, right: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Return points and normals in cutting order, the first point first (see the module doc).
+
+    The normals point to the cutter's side: away from the enclosed area on an outside contour.
+    """
+    points, normals = path.points, path.normals
+    x, y = points[:, 0], points[:, 1]
     area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
-    if (area > 0.0) == counterclockwise:
-        return path.points, path.normals
+    inside = float(np.sum((points - points.mean(axis=0)) * normals)) < 0.0
+    if (area > 0.0) == (right != inside):
+        return points, normals
     order = np.concatenate(([0], np.arange(len(x) - 1, 0, -1)))
-    return path.points[order], path.normals[order]
+    return points[order], normals[order]
 
 
 def _xy(unit: str, point: np.ndarray) -> str:
@@ -66,45 +79,59 @@ def _length(unit: str, value: float, up: bool = False) -> str:
     return f'{value * per_metre:.{decimals}f} {unit.upper()}'
 
 
-def gcode_text(path: ToolPath, about: PathFile) -> str:
-    """Return the G-code program of one closed contour (see the module doc)."""
-    unit = about.unit
-    points, normals = _oriented(path, about.compensation == 'right')
-    radius = about.cutter_radius or 0.0
-    if about.compensation:
+def gcode_text(paths: dict[str, ToolPath], about: PathFile) -> str:
+    """Return the G-code program of the closed contours (see the module doc)."""
+    unit, radius = about.unit, about.cutter_radius or 0.0
+    first = next(iter(paths.values()))
+    worst = max(path.worst_deviation for path in paths.values())
+    code = {'left': 'G41', 'right': 'G42'}.get(about.compensation or '', '')
+    if code:
         kind = f'NOMINAL CONTOUR, CUTTER COMPENSATION {about.compensation.upper()}'
         tool = f'SET D1 = CUTTER RADIUS {_length(unit, radius)}'
-        approach = points[0] + 2.0 * radius * normals[0]
-        on, off = f'{"G41" if about.compensation == "left" else "G42"} D1 G1', 'G40 G1'
+        on, off = f'{code} D1 G1', 'G40 G1'
     else:
         kind = 'CAM SURFACE OFFSET BY THE CUTTER RADIUS, CUTTER CENTRE'
         tool = f'CUTTER RADIUS {_length(unit, radius)}'
-        approach = points[0] + radius * normals[0]
         on, off = 'G1', 'G1'
     lines = ['%', f'(CAM_ROS CUTTER PATH OF {about.name.upper()})', f'({kind})', f'({tool})',
-             f'(CHORDAL TOLERANCE {_length(unit, path.tolerance)}, WORST DEVIATION '
-             f'{_length(unit, path.worst_deviation, up=True)})',
+             f'(CHORDAL TOLERANCE {_length(unit, first.tolerance)}, WORST DEVIATION '
+             f'{_length(unit, worst, up=True)})',
              '(ORIGIN AT THE CAM CENTRE, THE CAM AT THETA = 0 AS IN THE DXF EXPORT)',
              '(2D CONTOUR: SET THE DEPTH AND THE FEED BEFORE IT)',
-             f'{UNITS[unit][1]} G17 G90', f'G0 {_xy(unit, approach)}',
-             f'{on} {_xy(unit, points[0])}']
-    lines += [f'G1 {_xy(unit, point)}' for point in points[1:]]
-    lines += [f'G1 {_xy(unit, points[0])}', f'{off} {_xy(unit, approach)}', 'M30', '%']
-    return '\n'.join(lines) + '\n'
+             f'{UNITS[unit][1]} G17 G90']
+    for name, path in paths.items():
+        points, normals = _oriented(path, about.compensation == 'right')
+        approach = points[0] + about.lead * normals[0]
+        if len(paths) > 1:
+            lines.append(f'({TITLES[name]})')
+        lines += [f'G0 {_xy(unit, approach)}', f'{on} {_xy(unit, points[0])}']
+        lines += [f'G1 {_xy(unit, point)}' for point in points[1:]]
+        lines += [f'G1 {_xy(unit, points[0])}', f'{off} {_xy(unit, approach)}']
+    return '\n'.join(lines + ['M30', '%']) + '\n'
 
 
-def write_path(target: Path, file_format: str, path: ToolPath, about: PathFile) -> None:
-    """Write the path as gcode, csv (x, y and the unit normal per point) or dxf."""
+def write_path(target: Path, file_format: str, paths: dict[str, ToolPath],
+               about: PathFile) -> None:
+    """Write the paths as gcode, csv (x, y and the unit normal per point) or dxf.
+
+    Two or more paths: a CSV names each point's curve in a fifth column, a DXF puts each on
+    its layer.
+    """
     from cam_ros.output.drawing import write_dxf
 
     if file_format == 'gcode':
-        target.write_text(gcode_text(path, about), encoding='ascii')
+        target.write_text(gcode_text(paths, about), encoding='ascii')
         return
-    points, normals = _oriented(path, False)
-    scaled = points * UNITS[about.unit][0]
+    scale, unit = UNITS[about.unit][0], about.unit
+    ordered = {name: _oriented(path, False) for name, path in paths.items()}
     if file_format == 'csv':
-        unit = about.unit
-        np.savetxt(target, np.column_stack((scaled, normals)), fmt='%.9f', delimiter=',',
-                   header=f'x_{unit},y_{unit},nx,ny', comments='')
-    else:
-        write_dxf(target, scaled, about.unit, LAYERS[about.nominal])
+        header = f'x_{unit},y_{unit},nx,ny' + (',curve' if len(paths) > 1 else '')
+        rows = [','.join(f'{value:.9f}' for value in (*point * scale, *normal))
+                + (f',{name}' if len(paths) > 1 else '')
+                for name, (points, normals) in ordered.items()
+                for point, normal in zip(points, normals)]
+        target.write_text('\n'.join([header, *rows]) + '\n', encoding='utf-8')
+        return
+    base = 'CAM_NOMINAL' if about.nominal else 'CUTTER_PATH'
+    write_dxf(target, {(base if len(paths) == 1 else f'{base}_{name.upper()}'): points * scale
+                       for name, (points, _) in ordered.items()}, unit)

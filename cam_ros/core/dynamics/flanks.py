@@ -141,3 +141,27 @@ def roller_side(follower: Follower, clockwise: bool,
         with np.errstate(divide='ignore'):
             return arm * np.cos(profile.pressure_angle), radius(profile)
     return side
+
+
+def form_closed_loads(model: FollowerDynamics, program: MotionProgram, follower: Follower,
+                      clockwise: bool, second: Optional[Follower] = None,
+                      clearance: float = 0.0) -> SideLoads:
+    """Return the side loads of a groove (second None) or a conjugate pair (second: roller 2).
+
+    A groove's flanks are seen from the roller at radius rho_p - w (inner) and -(rho_p + w)
+    (outer), w = Rr + clearance/2; a conjugate cam at its own surface radius.
+    """
+    if second is not None:
+        return side_loads(model, program, roller_side(follower, clockwise, _own_surface),
+                          roller_side(second, clockwise, _own_surface))
+    half = getattr(follower, 'roller_radius') + 0.5 * clearance
+    return side_loads(model, program,
+                      roller_side(follower, clockwise,
+                                  lambda profile: 1.0 / profile.pitch_curvature - half),
+                      roller_side(follower, clockwise,
+                                  lambda profile: -(1.0 / profile.pitch_curvature + half)))
+
+
+def _own_surface(profile: Profile) -> Array:
+    """Return a conjugate cam's own surface radius, seen from its roller."""
+    return profile.surface_radius

@@ -157,6 +157,18 @@ def conjugate_follower(follower: Follower, program: MotionProgram, conjugate_ang
     raise InvalidParameter('follower', follower, 'a conjugate cam needs a roller follower')
 
 
+def second_roller_problem(follower: Follower, program: MotionProgram, conjugate_angle: float,
+                          samples: int = CHECK_SAMPLES) -> Optional[str]:
+    """Return why a conjugate pair's second roller cannot follow program, else None."""
+    try:
+        second = conjugate_follower(follower, program, conjugate_angle, samples)
+    except InvalidParameter as err:
+        return err.rule
+    _, s, ds, _ = _grid(program, samples)
+    problem = second._motion_problem(s, ds)
+    return None if problem is None else f'the second roller cannot follow: {problem.rule}'
+
+
 @dataclass(frozen=True)
 class ConstantBreadth:
     """s(theta) + s(theta + pi) over a half turn: its spread (m) and whether it is constant."""

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -109,6 +109,39 @@ def check_cutter(contour: Contour, cutter_radius: float, name: str = 'cutter_rad
                                f'is larger than the smallest concave radius of the cam surface, '
                                f'{radius:.6g} m at cam angle {at:.6g} rad: the cutter would '
                                'gouge it there (use a smaller cutter)')
+
+
+#: A cutter within this share of a groove's half width cuts it in one pass on the pitch curve.
+GROOVE_FIT = 1e-9
+
+
+def cutter_contours(contours: dict[str, Contour], cutter_radius: Optional[float], nominal: bool,
+                    groove_half_width: Optional[float] = None,
+                    name: str = 'cutter_radius') -> tuple[dict[str, Contour], float]:
+    """Return the contours a cutter follows and how far it leads in along the first normal (m).
+
+    contours are a cam's working curves (normals on the cutter's side). nominal: the curves
+    themselves (for a CMM, or for the control's cutter compensation); else each offset by the
+    cutter radius, a gouging cutter refused (check_cutter). A groove (its half width w given)
+    is cut from inside: a cutter of radius w runs once along the pitch curve, a narrower one
+    along each flank, a wider one is refused. The lead-in starts clear of the cam (2 Rc for
+    compensation, Rc for a path) or in the middle of the groove.
+    """
+    if cutter_radius is not None:
+        if groove_half_width is not None and cutter_radius > groove_half_width * (1 + GROOVE_FIT):
+            raise InvalidParameter(name, cutter_radius, f'is wider than the groove: at most half '
+                                   f'its width, {groove_half_width:.6g} m')
+        for contour in contours.values():
+            check_cutter(contour, cutter_radius, name)
+    cutter = cutter_radius or 0.0
+    if nominal:
+        return contours, (2.0 * cutter if groove_half_width is None else groove_half_width)
+    if groove_half_width is None:
+        return {key: contour.offset(cutter) for key, contour in contours.items()}, cutter
+    if abs(cutter - groove_half_width) <= GROOVE_FIT * groove_half_width:
+        return {'pitch': contours['inner'].offset(groove_half_width)}, 0.0
+    return ({key: contour.offset(cutter) for key, contour in contours.items()},
+            groove_half_width - cutter)
 
 
 @dataclass(frozen=True, eq=False)
