@@ -93,7 +93,8 @@ def closure_data(design: CamDesign) -> dict[str, Any]:
     for index, (name, side) in enumerate(closure.sides.items()):
         entry: dict[str, Any] = {
             'radius_of_curvature_min': side.radius_of_curvature_min,
-            'radius_of_curvature_min_at_deg': cam_degrees(side.at), 'undercut': side.undercut}
+            'radius_of_curvature_min_at_deg': cam_degrees(side.at) if math.isfinite(
+                side.radius_of_curvature_min) else None, 'undercut': side.undercut}
         if loads is not None:
             load = loads.sides[index]
             entry.update({

@@ -84,9 +84,10 @@ def gcode_text(paths: dict[str, ToolPath], about: PathFile) -> str:
     unit, radius = about.unit, about.cutter_radius or 0.0
     first = next(iter(paths.values()))
     worst = max(path.worst_deviation for path in paths.values())
-    code = {'left': 'G41', 'right': 'G42'}.get(about.compensation or '', '')
+    side = about.compensation or ''
+    code = {'left': 'G41', 'right': 'G42'}.get(side, '')
     if code:
-        kind = f'NOMINAL CONTOUR, CUTTER COMPENSATION {about.compensation.upper()}'
+        kind = f'NOMINAL CONTOUR, CUTTER COMPENSATION {side.upper()}'
         tool = f'SET D1 = CUTTER RADIUS {_length(unit, radius)}'
         on, off = f'{code} D1 G1', 'G40 G1'
     else:

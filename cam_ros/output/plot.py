@@ -126,8 +126,14 @@ def _geometry_panels(design: CamDesign, axes: list[Axes], state: CamState,
     pressure, limit = np.degrees(state.pressure_angle), math.degrees(
         design.config.pressure_angle_limit)
     axes[0].plot(degrees, pressure, color='tab:blue', linewidth=1.2)
-    _limit(axes[0], limit, f'limit ±{limit:g} deg')
+    back = math.degrees(design.config.pressure_angle_return_limit)
+    _limit(axes[0], limit, f'limit ±{limit:g} deg' if back == limit
+           else f'rise limit ±{limit:g} deg')
     _limit(axes[0], -limit, '_')
+    if back != limit:  # the return's own limit (|angle| where ds/dtheta <= 0)
+        for sign, label in ((1, f'return limit ±{back:g} deg'), (-1, '_')):
+            axes[0].axhline(sign * back, color='tab:orange', linewidth=0.9, linestyle=':',
+                            label=label)
     _frame(design, axes[0], angle, 'pressure angle (deg)')
     axes[0].legend(loc='upper right', fontsize=7)
     axes[0].set_title('Pressure angle and radius of curvature', fontsize=10)

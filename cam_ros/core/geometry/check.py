@@ -337,14 +337,15 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
     extremes = _Extremes(follower, geometry.clockwise, geometry.theta, geometry, program)
     high, low, rise, ret, (worst, worst_at), *rest = extremes.extremes(wanted)
     peak, peak_at = max(high, (-low[0], low[1]))
-    if roller:
+    convex: Optional[float] = None
+    concave: Optional[float] = None
+    if isinstance(follower, ROLLERS):
         undercut_margin = 1.0 - follower.roller_radius * worst
         smallest = 1.0 / worst - follower.roller_radius if worst > 0.0 else math.inf
         concave = -1.0 / rest[0][0] if rest[0][0] < 0.0 else math.inf
         convex, face = smallest + follower.roller_radius, rest[1:]
     else:
         undercut_margin = smallest = worst
-        convex = concave = None
         face = rest
     undercut = _undercut_measure(follower)
     dip = worst_at if undercut_margin <= 0.0 else None
