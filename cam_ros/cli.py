@@ -193,6 +193,9 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                            help='gcode: write the nominal contour with G41 (left) or G42 '
                                 '(right) and the cutter radius in register D1, instead of the '
                                 'offset path')
+    machining.add_argument('--arcs', action='store_true',
+                           help='gcode: join runs of points into arcs (G2/G3) where an arc stays '
+                                'within --tolerance of the exact curve')
     table = parser.add_argument_group('cam table')
     table.add_argument('--cam-table', action='store_true',
                        help='write a cam table instead of the surface')

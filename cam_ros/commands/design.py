@@ -111,13 +111,15 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
            points: int | None = None, tolerance: str | None = None,
            file_format: str | None = None, interpolation: str | None = None,
            end_point: bool | None = None, derivatives: bool = False, machining: bool = False,
-           cutter_radius: str | None = None, compensation: str | None = None) -> int:
+           cutter_radius: str | None = None, compensation: str | None = None,
+           arcs: bool = False) -> int:
     """Write the cam surface (mm), a cutter path (--machining) or a cam table (--cam-table)."""
     from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
 
     table_options = {'--points': points, '--interpolation': interpolation,
                      '--end-point': end_point, '--derivatives': derivatives or None}
-    machining_options = {'--cutter-radius': cutter_radius, '--compensation': compensation}
+    machining_options = {'--cutter-radius': cutter_radius, '--compensation': compensation,
+                         '--arcs': arcs or None}
     if cam_table and machining:
         raise InvalidParameter('--machining', True, 'cannot go with --cam-table: one or the '
                                                     'other')
@@ -134,7 +136,7 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         from cam_ros.commands.machining import export_machining
 
         return export_machining(config, output, cutter_radius, tolerance,
-                                file_format or 'gcode', compensation)
+                                file_format or 'gcode', compensation, arcs)
     if cam_table:
         table_format = file_format or 'csv'
         if table_format not in TABLE_FORMATS:

@@ -6,6 +6,7 @@ from pathlib import Path
 from cam_ros.commands.common import load_design, number, verdict, writing
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.config.quantity import typed_quantity
+from cam_ros.core.geometry.arcs import fit_arcs, lines_only
 from cam_ros.core.geometry.machining import Contour, cutter_contours, place_points
 from cam_ros.core.program_from_config import in_file_units
 from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
@@ -27,13 +28,14 @@ def _restated(err: InvalidParameter, option: str, text: str,
 
 def export_machining(config: str, output: str, cutter_radius: str | None,
                      tolerance: str | None, file_format: str,
-                     compensation: str | None) -> int:
+                     compensation: str | None, arcs: bool = False) -> int:
     """Write the cutter path (gcode, dxf) or the nominal contour (csv, gcode with G41/G42)."""
     if file_format not in MACHINING_FORMATS:
         raise InvalidParameter('--format', file_format, 'a cutter path takes one of '
                                + ', '.join(MACHINING_FORMATS))
-    if compensation is not None and file_format != 'gcode':
-        raise InvalidParameter('--compensation', compensation, 'applies to --format gcode')
+    for option, value in (('--compensation', compensation), ('--arcs', arcs or None)):
+        if value is not None and file_format != 'gcode':
+            raise InvalidParameter(option, value, 'applies to --format gcode')
     if tolerance is None:
         raise InvalidParameter('--tolerance', None, 'is required with --machining (the chordal '
                                                     'tolerance, in length_unit)')
@@ -52,19 +54,23 @@ def export_machining(config: str, output: str, cutter_radius: str | None,
     nominal = file_format == 'csv' or compensation is not None
     contours, lead = _contours(design, radius, nominal, cutter_radius or '')
     try:
-        paths = {name: place_points(contour, limit, resolution(unit))
-                 for name, contour in contours.items()}
+        placed = {name: place_points(contour, limit, resolution(unit))
+                  for name, contour in contours.items()}
     except InvalidParameter as err:
         raise _restated(err, '--tolerance', tolerance, design) from err
+    paths = {name: fit_arcs(contours[name], path, resolution(unit)) if arcs
+             else lines_only(path) for name, path in placed.items()}
     about = PathFile(Path(config).name, unit, radius, nominal, compensation, lead)
     target = Path(output)
     with writing('export', f'writing {target}', target):
         write_path(target, file_format, paths, about)
     per_metre = UNITS[unit][0]
     what = ('nominal contour' if nominal else 'cutter path') + ('s' if len(paths) > 1 else '')
-    count = ' + '.join(str(len(path.points)) for path in paths.values())
-    worst = max(path.worst_deviation for path in paths.values())
-    print(f'wrote {target}: {what} of {count} points ({file_format}, {unit}), worst chordal '
+    count = ' + '.join(str(len(fitted.path.points)) for fitted in paths.values())
+    worst = max(fitted.worst_deviation for fitted in paths.values())
+    moves = (f', {sum(move.centre is not None for f in paths.values() for move in f.moves)} '
+             f'arcs in {sum(len(f.moves) for f in paths.values())} moves' if arcs else '')
+    print(f'wrote {target}: {what} of {count} points ({file_format}, {unit}{moves}), worst '
           f'deviation {number(worst * per_metre)} {unit} within {number(limit * per_metre)} '
           f'{unit}')
     return verdict('export', design)

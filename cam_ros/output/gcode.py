@@ -17,6 +17,7 @@ from typing import Optional
 
 import numpy as np
 
+from cam_ros.core.geometry.arcs import ArcPath, Move
 from cam_ros.core.geometry.machining import ToolPath
 
 MACHINING_FORMATS = ('gcode', 'csv', 'dxf')
@@ -49,8 +50,8 @@ class PathFile:
     lead: float = 0.0
 
 
-def _oriented(path: ToolPath, right: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Return points and normals in cutting order, the first point first (see the module doc).
+def _reversed(path: ToolPath, right: bool) -> bool:
+    """Return whether the path must run against its point order (see the module doc).
 
     The normals point to the cutter's side: away from the enclosed area on an outside contour.
     """
@@ -58,10 +59,24 @@ def _oriented(path: ToolPath, right: bool) -> tuple[np.ndarray, np.ndarray]:
     x, y = points[:, 0], points[:, 1]
     area = 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
     inside = float(np.sum((points - points.mean(axis=0)) * normals)) < 0.0
-    if (area > 0.0) == (right != inside):
-        return points, normals
-    order = np.concatenate(([0], np.arange(len(x) - 1, 0, -1)))
-    return points[order], normals[order]
+    return (area > 0.0) != (right != inside)
+
+
+def _oriented(path: ToolPath, right: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Return points and normals in cutting order, the first point first."""
+    if not _reversed(path, right):
+        return path.points, path.normals
+    order = np.concatenate(([0], np.arange(len(path.points) - 1, 0, -1)))
+    return path.points[order], path.normals[order]
+
+
+def _moves(fitted: ArcPath, right: bool) -> tuple[Move, ...]:
+    """Return the moves in cutting order, indices into _oriented's points."""
+    if not _reversed(fitted.path, right):
+        return fitted.moves
+    count = len(fitted.path.points)
+    return tuple(Move((count - move.end) % count, (count - move.start) % count, move.centre)
+                 for move in reversed(fitted.moves))
 
 
 def _xy(unit: str, point: np.ndarray) -> str:
@@ -79,11 +94,24 @@ def _length(unit: str, value: float, up: bool = False) -> str:
     return f'{value * per_metre:.{decimals}f} {unit.upper()}'
 
 
-def gcode_text(paths: dict[str, ToolPath], about: PathFile) -> str:
+def _move(unit: str, move: Move, points: np.ndarray) -> str:
+    """Return the block of one move: G1 to its end, or G2/G3 with the centre as I, J."""
+    end = points[move.end]
+    if move.centre is None:
+        return f'G1 {_xy(unit, end)}'
+    start, middle, centre = points[move.start], points[move.start + 1], np.array(move.centre)
+    turn = (middle - start)[0] * (end - middle)[1] - (middle - start)[1] * (end - middle)[0]
+    per_metre, _, decimals = UNITS[unit]
+    i, j = ((centre - start) * per_metre + 0.0).tolist()
+    return (f'{"G3" if turn > 0.0 else "G2"} {_xy(unit, end)} I{i:.{decimals}f} '
+            f'J{j:.{decimals}f}').replace(f'-0.{"0" * decimals} ', f'0.{"0" * decimals} ')
+
+
+def gcode_text(paths: dict[str, ArcPath], about: PathFile) -> str:
     """Return the G-code program of the closed contours (see the module doc)."""
     unit, radius = about.unit, about.cutter_radius or 0.0
-    first = next(iter(paths.values()))
-    worst = max(path.worst_deviation for path in paths.values())
+    first = next(iter(paths.values())).path
+    worst = max(fitted.worst_deviation for fitted in paths.values())
     side = about.compensation or ''
     code = {'left': 'G41', 'right': 'G42'}.get(side, '')
     if code:
@@ -100,20 +128,22 @@ def gcode_text(paths: dict[str, ToolPath], about: PathFile) -> str:
              '(ORIGIN AT THE CAM CENTRE, THE CAM AT THETA = 0 AS IN THE DXF EXPORT)',
              '(2D CONTOUR: SET THE DEPTH AND THE FEED BEFORE IT)',
              f'{UNITS[unit][1]} G17 G90']
-    for name, path in paths.items():
-        points, normals = _oriented(path, about.compensation == 'right')
+    right = about.compensation == 'right'
+    for name, fitted in paths.items():
+        points, normals = _oriented(fitted.path, right)
         approach = points[0] + about.lead * normals[0]
         if len(paths) > 1:
             lines.append(f'({TITLES[name]})')
         lines += [f'G0 {_xy(unit, approach)}', f'{on} {_xy(unit, points[0])}']
-        lines += [f'G1 {_xy(unit, point)}' for point in points[1:]]
-        lines += [f'G1 {_xy(unit, points[0])}', f'{off} {_xy(unit, approach)}']
+        lines += [_move(unit, move, points) for move in _moves(fitted, right)]
+        lines.append(f'{off} {_xy(unit, approach)}')
     return '\n'.join(lines + ['M30', '%']) + '\n'
 
 
-def write_path(target: Path, file_format: str, paths: dict[str, ToolPath],
+def write_path(target: Path, file_format: str, paths: dict[str, ArcPath],
                about: PathFile) -> None:
-    """Write the paths as gcode, csv (x, y and the unit normal per point) or dxf.
+    """Write the paths as gcode (arcs as G2/G3), csv (x, y and the unit normal per point) or
+    dxf (the points).
 
     Two or more paths: a CSV names each point's curve in a fifth column, a DXF puts each on
     its layer.
@@ -124,7 +154,7 @@ def write_path(target: Path, file_format: str, paths: dict[str, ToolPath],
         target.write_text(gcode_text(paths, about), encoding='ascii')
         return
     scale, unit = UNITS[about.unit][0], about.unit
-    ordered = {name: _oriented(path, False) for name, path in paths.items()}
+    ordered = {name: _oriented(fitted.path, False) for name, fitted in paths.items()}
     if file_format == 'csv':
         header = f'x_{unit},y_{unit},nx,ny' + (',curve' if len(paths) > 1 else '')
         rows = [','.join(f'{value:.9f}' for value in (*point * scale, *normal))

@@ -222,3 +222,64 @@ def test_bad_machining_input_exits_2_and_writes_nothing(options, fragments, tmp_
     run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', target, *options)
     assert_one_error_line(run, 'export', *fragments)
     assert not target.exists()
+
+
+def arc_samples(lines, count=200) -> tuple[np.ndarray, list[float]]:
+    """Return points along every G2/G3 move (m) and each arc's radius mismatch (m).
+
+    The arcs are read back as the control would: centre = start + (I, J), G2 clockwise, G3
+    counter-clockwise from the start to the end point.
+    """
+    samples, mismatch, position = [], [], None
+    for line in lines:
+        if line.command in (('G', 0), ('G', 1)):
+            position = np.array((line.params['X'], line.params['Y'])) * MM
+        elif line.command in (('G', 2), ('G', 3)):
+            end = np.array((line.params['X'], line.params['Y'])) * MM
+            centre = position + np.array((line.params['I'], line.params['J'])) * MM
+            radius = np.hypot(*(position - centre))
+            mismatch.append(abs(np.hypot(*(end - centre)) - radius))
+            start_angle = math.atan2(*(position - centre)[::-1])
+            sweep = math.atan2(*(end - centre)[::-1]) - start_angle
+            sweep = sweep % (2 * math.pi) if line.command == ('G', 3) else \
+                -((-sweep) % (2 * math.pi))
+            angles = start_angle + sweep * np.linspace(0.0, 1.0, count)
+            samples.append(centre + radius * np.column_stack((np.cos(angles), np.sin(angles))))
+            position = end
+    return np.concatenate(samples), mismatch
+
+
+def test_arcs_stay_within_the_tolerance_of_the_exact_path(tmp_path, capsys):
+    target = tmp_path / 'arcs.nc'
+    run = export(capsys, target, '--cutter-radius', '1.0', '--arcs')
+    assert 'arcs in' in run.out
+    lines, points, text = read_gcode(target)
+    arcs = [line for line in lines if line.command in (('G', 2), ('G', 3))]
+    assert 3 <= len(arcs) < 60  # far fewer moves than the 200-odd chords
+    along, mismatch = arc_samples(lines)
+    off = distance_to(pitch_curve(), along)
+    stated = float(text.split('WORST DEVIATION ')[1].split(' MM')[0]) * MM
+    assert off.max() <= 0.01 * MM and max(mismatch) <= 0.01 * MM
+    assert off.max() <= stated
+
+
+def test_an_eccentric_circle_becomes_a_few_arcs_of_its_radius(tmp_path, capsys):
+    config = scotch_yoke(tmp_path, 'mm')
+    target = tmp_path / 'yoke.nc'
+    run = run_cli(capsys, 'export', config, '-o', target, '--machining', '--cutter-radius',
+                  '6', '--tolerance', '0.01', '--arcs')
+    assert run.code == 0, run
+    lines, _, _ = read_gcode(target)
+    arcs = [line for line in lines if line.command in (('G', 2), ('G', 3))]
+    assert len(arcs) in (3, 4) and all(line.command == ('G', 2) for line in arcs)  # clockwise
+    along, mismatch = arc_samples(lines)
+    radius, centre = (50 + 6) * MM, np.array([0.0, -10 * MM])
+    assert np.abs(np.hypot(*(along - centre).T) - radius).max() <= 0.01 * MM
+    for line in arcs:
+        assert math.hypot(line.params['I'], line.params['J']) == pytest.approx(56.0, abs=2e-4)
+
+
+def test_arcs_are_for_gcode_only(tmp_path, capsys):
+    run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', tmp_path / 'cam.csv', '--machining',
+                  '--tolerance', '0.001', '--format', 'csv', '--arcs')
+    assert_one_error_line(run, 'export', '--arcs = True', 'applies to --format gcode')

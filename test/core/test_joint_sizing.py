@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from cam_ros.core.config.schema import parse_parameters
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry.cam_geometry import cam_geometry
 from cam_ros.core.geometry.check import check_geometry
@@ -214,3 +215,24 @@ def test_a_return_limit_needs_a_rise_limit_and_a_valid_angle():
         check_geometry(geometry, max_pressure_angle_return=0.5)
     with pytest.raises(InvalidParameter, match=r'max_pressure_angle_return = 2\.0.*\(0, pi/2\)'):
         check_geometry(geometry, max_pressure_angle=0.5, max_pressure_angle_return=2.0)
+
+
+def flat_config(**changes):
+    flat = {'follower.type': 'translating_roller', 'follower.base_radius': 0.03,
+            'follower.roller_radius': 0.01, 'motion.laws': ['cycloidal', 'cycloidal'],
+            'motion.start_deg': [0.0, 180.0], 'motion.end_deg': [180.0, 360.0],
+            'motion.start_position': [0.0, 0.02], 'motion.end_position': [0.02, 0.0]}
+    flat.update(changes)
+    return parse_parameters(flat)
+
+
+def test_the_return_limit_defaults_to_the_rise_limit_and_is_range_checked():
+    assert flat_config().pressure_angle_return_limit == pytest.approx(30 * DEG)
+    assert flat_config(**{'limits.pressure_angle_deg': 25.0}).pressure_angle_return_limit \
+        == pytest.approx(25 * DEG)
+    given = flat_config(**{'limits.pressure_angle_return_deg': 45.0})
+    assert (given.pressure_angle_limit, given.pressure_angle_return_limit) == pytest.approx(
+        (30 * DEG, 45 * DEG))
+    with pytest.raises(InvalidParameter, match=r'limits.pressure_angle_return_deg = 95.0: '
+                                               r'must be <= 89'):
+        flat_config(**{'limits.pressure_angle_return_deg': 95.0})
