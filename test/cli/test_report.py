@@ -348,3 +348,24 @@ def test_smallest_cam_meets_the_rise_and_return_limits(tmp_path, capsys):
                      follower__offset=cam['offset'] / CM)
     code, below = report_json(capsys, smaller)
     assert code == 1 and below['pressure_angle_ok'] is False
+
+
+def test_a_groove_report_names_each_flank_and_its_radius(tmp_path, capsys):
+    """Seed 000's cam as a groove (no clearance): the inner flank is the spring cam's surface."""
+    groove = edited(tmp_path, 'groove', follower__closure='groove')
+    code, data = report_json(capsys, groove)
+    assert code == 0 and data['closure'] == 'groove' and 'cams' not in data
+    assert set(data['flanks']) == {'inner', 'outer'}
+    theta = np.linspace(0.0, 2 * math.pi, REFERENCE_SAMPLES, endpoint=False)
+    _, rho = seed_000_roller(theta)
+    pitch = rho + ROLLER_RADIUS
+    inner, outer = data['flanks']['inner'], data['flanks']['outer']
+    assert inner['radius_of_curvature_min'] == pytest.approx(rho[rho > 0].min(),
+                                                             rel=RELATIVE_TOLERANCE)
+    concave = -pitch[pitch < 0].max() - ROLLER_RADIUS if (pitch < 0).any() else None
+    assert outer['radius_of_curvature_min'] == (None if concave is None else pytest.approx(
+        concave, rel=RELATIVE_TOLERANCE))
+    assert inner['undercut'] is outer['undercut'] is False
+    assert 'carries_load_deg' not in inner  # no dynamics, no loads
+    _, force = report_json(capsys, DEFAULT_CONFIG)
+    assert force['closure'] == 'force' and 'flanks' not in force
