@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .config.schema import LENGTH_UNITS, CamConfig
-from .dynamics.flanks import form_closed_loads, SideLoads
+from .dynamics.flanks import form_closed_sides, Side, side_loads, SideLoads, side_values
 from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
@@ -89,8 +89,13 @@ class CamDesign:
         cam = motion if self.surface is self.program else self.surface.evaluate(theta)
         pressure_angle, radius = contact_measures(self.follower, theta, cam.s, cam.ds,
                                                   cam.d2s, clockwise=self.clockwise)
-        forces = None if self.dynamics is None else self.dynamics.values(
-            motion.s, motion.ds, motion.d2s, pressure_angle, radius)
+        if self.dynamics is None:
+            forces = None
+        elif self._sides is not None:  # form-closed: the side carrying the load
+            forces = side_values(self.dynamics, self._sides, theta, motion, cam)
+        else:
+            forces = self.dynamics.values(motion.s, motion.ds, motion.d2s, pressure_angle,
+                                          radius)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
                         motion.ds, motion.d2s, motion.d3s, pressure_angle, radius, forces)
 
@@ -168,13 +173,21 @@ class CamDesign:
                              clearance=f.groove_clearance, conjugate_angle=f.conjugate_angle)
 
     @cached_property
+    def _sides(self) -> tuple[Side, Side] | None:
+        """Return the two sides of a form-closed cam (dynamics/flanks.py), None for force."""
+        f = self.config.follower
+        if f.closure == 'force':
+            return None
+        second = (conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+                  if f.closure == 'conjugate' else None)
+        return form_closed_sides(self.follower, self.clockwise, second, f.groove_clearance)
+
+    @cached_property
     def side_loads(self) -> SideLoads | None:
         """Return which side of a form-closed cam carries the load where (with dynamics)."""
-        closure, model = self.closure, self.dynamics
-        if closure is None or model is None:
+        if self._sides is None or self.dynamics is None:
             return None
-        return form_closed_loads(model, self.program, self.follower, self.clockwise,
-                                 closure.second_follower, self.config.follower.groove_clearance)
+        return side_loads(self.dynamics, self.program, *self._sides)
 
     @property
     def ok(self) -> bool:

@@ -163,10 +163,11 @@ def _dynamics_panels(design: CamDesign, axes: list[Axes], state: CamState,
         force_ax.plot(degrees, forces.spring_force, color='tab:gray', linewidth=1.0,
                       label='spring force')
     leaves = forces.contact_force < 0.0
-    if leaves.any():
+    if leaves.any():  # a form-closed cam cannot jump: there its second side takes the load
         force_ax.fill_between(degrees, 0.0, 1.0, where=leaves, color='tab:red', alpha=0.2,
                               transform=force_ax.get_xaxis_transform(),
-                              label='follower leaves the cam')
+                              label='follower leaves the cam' if design.closure is None
+                              else 'the second side carries the load')
     _frame(design, force_ax, angle, 'force (N)')
     force_ax.legend(loc='best', fontsize=7)
     force_ax.set_title(f'Dynamics at {design.config.cam_speed:g} rad/s', fontsize=10)
@@ -241,6 +242,12 @@ def _drawing(design: CamDesign, ax: Axes, angle: float) -> None:
     ax.fill(surface[0], surface[1], color='tab:blue', alpha=0.12, linewidth=0)
     ax.plot(*np.column_stack((surface, surface[:, :1])), color='tab:blue', linewidth=1.6,
             label='cam surface')
+    if design.closure is not None:  # a groove's outer flank, a conjugate pair's second cam
+        name, contour = list(design.contours().items())[-1]
+        other = turn @ contour.evaluate(np.linspace(0.0, 2.0 * math.pi, DRAW_SAMPLES,
+                                                    endpoint=False))[0] * MM_PER_M
+        ax.plot(*np.column_stack((other, other[:, :1])), color='tab:purple', linewidth=1.6,
+                label=f'{name} {"flank" if name == "outer" else "cam"}')
     roller = isinstance(design.follower, (TranslatingRoller, OscillatingRoller))
     ax.plot(*np.column_stack((pitch, pitch[:, :1])), color='tab:orange', linewidth=1.0,
             linestyle='--', label='pitch curve' if roller else 'face reference point path')

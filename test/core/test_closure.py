@@ -232,3 +232,24 @@ def test_an_oscillating_conjugate_arm_needs_an_angle_clear_of_the_swing():
     second = design.closure.second
     assert second is not None and design.closure.sides['second'].radius_of_curvature_min > 0
     assert design.side_loads.crossovers  # the load changes cams
+
+
+def test_per_angle_stress_is_the_carrying_flanks_hertz_pressure():
+    """p0 = sqrt(w E* K / pi), w = |N| / face width, K = 1/rho_flank + 1/Rr; the outer flank is
+    seen from the roller as concave, rho = -(rho_p + Rr)."""
+    design = build_design(config())
+    theta = np.linspace(0.0, 2 * math.pi, 3601, endpoint=False)
+    state = design.evaluate(theta)
+    values = SEED.evaluate(theta)
+    q = 2.0 * 30.0 ** 2 * values.d2s
+    rho = pitch_radius(theta, SEED, 30 * MM, 8 * MM, 0.0, 1)
+    contact = q / np.cos(np.arctan(values.ds / (38 * MM + values.s)))
+    flank = np.where(q >= 0, rho - 8 * MM, -(rho + 8 * MM))
+    modulus = 1 / (2 * (1 - 0.3 ** 2) / 207e9)
+    expected = np.sqrt(np.abs(contact) / (10 * MM) * modulus * (1 / flank + 1 / (8 * MM))
+                       / math.pi)
+    assert state.dynamics.contact_force == pytest.approx(contact, rel=1e-9, abs=1e-9)
+    assert state.dynamics.contact_stress == pytest.approx(expected, rel=1e-9, abs=1e-3)
+    loads = design.side_loads
+    assert max(side.contact_stress_max for side in loads.sides) == pytest.approx(
+        design.dynamics_check.contact_stress_max, rel=1e-9)

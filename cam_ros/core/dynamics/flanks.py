@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -22,7 +22,7 @@ from ..geometry.envelope import Profile
 from ..geometry.followers import Follower
 from ..motion.program import MotionProgram
 from .contact import peak_pressure
-from .follower import FollowerDynamics
+from .follower import DynamicsValues, FollowerDynamics
 
 Array = np.ndarray
 #: (lever, surface radius of curvature seen from the roller) of one side at the motion given.
@@ -143,23 +143,39 @@ def roller_side(follower: Follower, clockwise: bool,
     return side
 
 
-def form_closed_loads(model: FollowerDynamics, program: MotionProgram, follower: Follower,
-                      clockwise: bool, second: Optional[Follower] = None,
-                      clearance: float = 0.0) -> SideLoads:
-    """Return the side loads of a groove (second None) or a conjugate pair (second: roller 2).
+def form_closed_sides(follower: Follower, clockwise: bool, second: Optional[Follower] = None,
+                      clearance: float = 0.0) -> tuple[Side, Side]:
+    """Return the two sides of a groove (second None) or a conjugate pair (second: roller 2).
 
     A groove's flanks are seen from the roller at radius rho_p - w (inner) and -(rho_p + w)
     (outer), w = Rr + clearance/2; a conjugate cam at its own surface radius.
     """
     if second is not None:
-        return side_loads(model, program, roller_side(follower, clockwise, _own_surface),
-                          roller_side(second, clockwise, _own_surface))
+        return (roller_side(follower, clockwise, _own_surface),
+                roller_side(second, clockwise, _own_surface))
     half = getattr(follower, 'roller_radius') + 0.5 * clearance
-    return side_loads(model, program,
-                      roller_side(follower, clockwise,
-                                  lambda profile: 1.0 / profile.pitch_curvature - half),
-                      roller_side(follower, clockwise,
-                                  lambda profile: -(1.0 / profile.pitch_curvature + half)))
+    return (roller_side(follower, clockwise, lambda profile: 1.0 / profile.pitch_curvature - half),
+            roller_side(follower, clockwise,
+                        lambda profile: -(1.0 / profile.pitch_curvature + half)))
+
+
+def side_values(model: FollowerDynamics, sides: tuple[Side, Side], angles: Array,
+                motion: Any, cam: Any) -> DynamicsValues:
+    """Return the forces on a form-closed cam at angles (follower.py's DynamicsValues).
+
+    motion drives the forces, cam (the surface's motion) the geometry (s, ds, d2s each). The
+    contact force is on the side carrying the load, negative where the second side does; the
+    stress is that side's.
+    """
+    q, spring = model.follower_force(motion.s, motion.ds, motion.d2s)
+    (lever_1, radius_1), (lever_2, radius_2) = (side(angles, cam.s, cam.ds, cam.d2s)
+                                                for side in sides)
+    first = q >= 0.0
+    contact = np.where(first, q / lever_1, q / lever_2)
+    stress = peak_pressure(np.abs(contact) / model.config.face_width,
+                           model.curvature_sum(np.where(first, radius_1, radius_2)),
+                           model.config.modulus)
+    return DynamicsValues(q, spring, contact, q * motion.ds, stress)
 
 
 def _own_surface(profile: Profile) -> Array:
