@@ -154,8 +154,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                       'for a PLC',
                       'The surface: one closed curve in mm in the cam frame (cam centre at the '
                       'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
-                      '(closed path). With --machining: the cutter-location path (the surface '
-                      'offset by the cutter radius) or the nominal contour, points placed by a '
+                      '(closed path); a groove cam: both flanks, a conjugate pair: both cams, '
+                      'each its own curve. With --machining: the cutter-location path (the '
+                      'surface offset by the cutter radius) or the nominal contour, points placed '
+                      'by a '
                       'chordal tolerance, in mm (inch for length_unit in). With --cam-table: '
                       'master position (deg) -> slave position (length_unit, deg for '
                       'oscillating followers), optionally velocity and acceleration per deg and '

@@ -197,9 +197,12 @@ class _Polyline:
 def _split(knots: Array, chords: Array, pieces: Array) -> Array:
     """Return knots with chord i cut into pieces[i] equal parts (in angle)."""
     ends = np.append(knots[1:], knots[0] + TWO_PI)
-    new = [knots[i] + (ends[i] - knots[i]) * np.arange(1, k) / k
-           for i, k in zip(chords.tolist(), pieces.tolist())]
-    return np.sort(np.mod(np.concatenate([knots, *new]), TWO_PI))
+    cuts = pieces - 1  # new knots per chord
+    first = np.repeat(np.cumsum(cuts) - cuts, cuts)  # where each chord's new knots begin
+    step = np.arange(cuts.sum()) - first + 1  # 1 .. k-1 within each chord
+    start, width = knots[chords], ends[chords] - knots[chords]
+    new = np.repeat(start, cuts) + np.repeat(width, cuts) * step / np.repeat(pieces, cuts)
+    return np.sort(np.mod(np.concatenate((knots, new)), TWO_PI))
 
 
 def place_points(contour: Contour, tolerance: float, resolution: float = 0.0) -> ToolPath:
