@@ -236,3 +236,20 @@ def test_the_return_limit_defaults_to_the_rise_limit_and_is_range_checked():
     with pytest.raises(InvalidParameter, match=r'limits.pressure_angle_return_deg = 95.0: '
                                                r'must be <= 89'):
         flat_config(**{'limits.pressure_angle_return_deg': 95.0})
+
+
+def test_the_optimum_is_the_apex_of_the_kinematics_notes_wedge(clockwise):
+    """The notes' closed form: A = min(s - s' cot L_rise), B = min(s + s' cot L_return) over
+    each side, apex x* = (B - A) / (cot L_rise + cot L_return), d* = -A - x* cot L_rise."""
+    rise, ret = 30 * DEG, 45 * DEG
+    values = SEED.evaluate(DENSE)
+    s, v = values.s, values.ds
+    a = np.min((s - v / math.tan(rise))[v >= 0])
+    b = np.min((s + v / math.tan(ret))[v <= 0])
+    x = (b - a) / (1 / math.tan(rise) + 1 / math.tan(ret))
+    d = -a - x / math.tan(rise)
+    cam = smallest_cam(1 * CM, SEED, max_pressure_angle=rise, max_pressure_angle_return=ret,
+                       clockwise=clockwise)
+    assert cam.governing == 'pressure_angle_rise_and_return'
+    assert cam.prime_radius == pytest.approx(math.hypot(x, d), rel=1e-8)
+    assert cam.offset == pytest.approx((-1 if clockwise else 1) * x, rel=1e-7)
