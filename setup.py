@@ -18,7 +18,8 @@ setup(
     python_requires='>=3.11',
     install_requires=['setuptools'],
     extras_require={
-        'test': ['pytest', 'hypothesis', 'flake8', 'mypy', 'rosbags', 'mcap-ros2-support'],
+        'test': ['pytest', 'hypothesis', 'flake8', 'mypy', 'rosbags', 'mcap-ros2-support',
+                 'gcodeparser'],
     },
     zip_safe=True,
     maintainer='cam_ros maintainers',

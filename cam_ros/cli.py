@@ -20,6 +20,7 @@ from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, NoReturn, Sequence
 
 from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
+from cam_ros.output.gcode import MACHINING_FORMATS
 from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import CamError
 from cam_ros.core.errors import one_line
@@ -149,35 +150,60 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                              'operating points, and the periodic output against s')
 
     parser = _command(sub, 'export', 'cam_ros.commands.design:export',
-                      'Export the cam surface for manufacturing, or a cam table for a PLC',
+                      'Export the cam surface for manufacturing, a cutter path, or a cam table '
+                      'for a PLC',
                       'The surface: one closed curve in mm in the cam frame (cam centre at the '
                       'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
-                      '(closed path). With --cam-table: master position (deg) -> slave '
-                      'position (length_unit, deg for oscillating followers), optionally '
-                      'velocity and acceleration per deg and deg^2 of master.',
-                      exit_codes(LIMITS_FAILED))
+                      '(closed path); a groove cam: both flanks, a conjugate pair: both cams, '
+                      'each its own curve. With --machining: the cutter-location path (the '
+                      'surface offset by the cutter radius) or the nominal contour, points placed '
+                      'by a '
+                      'chordal tolerance, in mm (inch for length_unit in). With --cam-table: '
+                      'master position (deg) -> slave position (length_unit, deg for '
+                      'oscillating followers), optionally velocity and acceleration per deg and '
+                      'deg^2 of master.', exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
-                        help='file to write: .csv, .dxf or .svg (a cam table: any name)')
+                        help='file to write: .csv, .dxf or .svg (a cam table or a cutter path: '
+                             'any name)')
     parser.add_argument('--samples', type=SAMPLES, default=None, metavar='N',
                         help='points on the surface, equally spaced in cam angle '
                              '(default 3600)')
+    parser.add_argument('--format', dest='file_format', default=None,
+                        choices=tuple(TABLE_FORMATS) + tuple(f for f in MACHINING_FORMATS
+                                                             if f not in TABLE_FORMATS),
+                        help='a cam table: csv (default), sew (MOVI-C point list), xyva '
+                             '(CODESYS SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL); '
+                             'a cutter path: gcode (default), csv (the nominal contour with '
+                             'its unit normals, for a CMM), dxf')
+    spacing = parser.add_mutually_exclusive_group()
+    spacing.add_argument('--tolerance', default=None, metavar='T',
+                         help='a cam table: place points so that the interpolation stays '
+                              'within T of the exact law, T in the table\'s unit (the config\'s '
+                              'length_unit, deg for oscillating followers); a cutter path: the '
+                              'chordal tolerance in length_unit (required); or with a unit: '
+                              '0.01mm, 10um, 1e-5m, 0.1deg')
+    machining = parser.add_argument_group('cutter path')
+    machining.add_argument('--machining', action='store_true',
+                           help='write a cutter path (G-code) or the nominal contour instead of '
+                                'the surface')
+    machining.add_argument('--cutter-radius', default=None, metavar='R',
+                           help='cutter radius in length_unit or with a unit (required but for '
+                                '--format csv); a cutter larger than the smallest concave '
+                                'radius of the cam is refused')
+    machining.add_argument('--compensation', default=None, choices=('left', 'right'),
+                           help='gcode: write the nominal contour with G41 (left) or G42 '
+                                '(right) and the cutter radius in register D1, instead of the '
+                                'offset path')
+    machining.add_argument('--arcs', action='store_true',
+                           help='gcode: join runs of points into arcs (G2/G3) where an arc stays '
+                                'within --tolerance of the exact curve')
     table = parser.add_argument_group('cam table')
     table.add_argument('--cam-table', action='store_true',
                        help='write a cam table instead of the surface')
-    spacing = table.add_mutually_exclusive_group()
     spacing.add_argument('--points', type=POINTS, default=None, metavar='N',
-                         help='N equidistant master steps over one revolution (default 360): '
-                              'N + 1 rows with the end point 360 deg, N without')
-    spacing.add_argument('--tolerance', default=None, metavar='T',
-                         help='place points so that the interpolation stays within T of the '
-                              'exact law; T in the table\'s unit (the config\'s length_unit, '
-                              'deg for oscillating followers) or with a unit: 0.01mm, 10um, '
-                              '1e-5m, 0.1deg')
-    table.add_argument('--format', dest='table_format', default=None,
-                       choices=tuple(TABLE_FORMATS),
-                       help='csv (default), sew (MOVI-C point list), xyva (CODESYS '
-                            'SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL)')
+                         help='a cam table: N equidistant master steps over one revolution '
+                              '(default 360): N + 1 rows with the end point 360 deg, N without')
     table.add_argument('--interpolation', default=None, choices=INTERPOLATIONS,
                        help='what the target does between points (default linear); cubic: '
                             'Hermite with the velocity column as slopes (csv, xyva)')

@@ -15,6 +15,7 @@ from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import design_report
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
+from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
 
 #: Points of `export --cam-table` without --points or --tolerance: one per degree.
 DEFAULT_TABLE_POINTS = 360
@@ -108,23 +109,50 @@ def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = Fal
 
 def export(config: str, output: str, samples: int | None = None, cam_table: bool = False,
            points: int | None = None, tolerance: str | None = None,
-           table_format: str | None = None, interpolation: str | None = None,
-           end_point: bool | None = None, derivatives: bool = False) -> int:
-    """Write the cam surface (mm) for manufacturing, or with cam_table a cam table for a PLC."""
+           file_format: str | None = None, interpolation: str | None = None,
+           end_point: bool | None = None, derivatives: bool = False, machining: bool = False,
+           cutter_radius: str | None = None, compensation: str | None = None,
+           arcs: bool = False) -> int:
+    """Write the cam surface (mm), a cutter path (--machining) or a cam table (--cam-table)."""
     from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
 
-    if cam_table:
+    table_options = {'--points': points, '--interpolation': interpolation,
+                     '--end-point': end_point, '--derivatives': derivatives or None}
+    machining_options = {'--cutter-radius': cutter_radius, '--compensation': compensation,
+                         '--arcs': arcs or None}
+    if cam_table and machining:
+        raise InvalidParameter('--machining', True, 'cannot go with --cam-table: one or the '
+                                                    'other')
+    if cam_table or machining:
         if samples is not None:
             raise InvalidParameter('--samples', samples, 'counts surface points; a cam table '
-                                                         'takes --points or --tolerance')
-        return export_cam_table(config, output, points, tolerance, table_format or 'csv',
+                                   'takes --points or --tolerance, a cutter path --tolerance')
+        unused = machining_options if cam_table else table_options
+        for option, value in unused.items():
+            if value is not None:
+                raise InvalidParameter(option, value, 'applies to '
+                                       + ('--machining' if cam_table else 'cam tables') + ' only')
+    if machining:
+        from cam_ros.commands.machining import export_machining
+
+        return export_machining(config, output, cutter_radius, tolerance,
+                                file_format or 'gcode', compensation, arcs)
+    if cam_table:
+        table_format = file_format or 'csv'
+        if table_format not in TABLE_FORMATS:
+            raise InvalidParameter('--format', table_format, 'a cam table takes one of '
+                                   + ', '.join(TABLE_FORMATS))
+        return export_cam_table(config, output, points, tolerance, table_format,
                                 interpolation or 'linear', end_point, derivatives)
-    table_options = {'--points': points, '--tolerance': tolerance, '--format': table_format,
-                     '--interpolation': interpolation, '--end-point': end_point,
-                     '--derivatives': derivatives or None}
-    for option, value in table_options.items():
+    surface_only = {**table_options, **machining_options, '--tolerance': tolerance,
+                    '--format': file_format}
+    for option, value in surface_only.items():
         if value is not None:
-            raise InvalidParameter(option, value, 'applies to cam tables only: add --cam-table')
+            hint = ('cutter paths only: add --machining' if option in machining_options
+                    else 'cam tables or cutter paths only: add --cam-table or --machining'
+                    if option in ('--tolerance', '--format')
+                    else 'cam tables only: add --cam-table')
+            raise InvalidParameter(option, value, f'applies to {hint}')
     target = output_path('-o', output, tuple(WRITERS))
     design = load_design(config)
     with writing('export', f'writing {target}', target):

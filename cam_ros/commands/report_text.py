@@ -4,9 +4,11 @@ Angles in degrees; lengths in m (rad of arm angle for oscillating followers).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
+from cam_ros.commands.closure_text import closure_data, closure_rows, LIMIT_STATES
 from cam_ros.commands.common import degrees, format_table, number
 from cam_ros.core import CamDesign
 from cam_ros.core.design import cam_degrees
@@ -34,11 +36,16 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'cam_speed': cfg.cam_speed,
         'position_unit': unit,
         'limits': {'pressure_angle_deg': degrees(cfg.pressure_angle_limit),
+                   'pressure_angle_return_deg': degrees(cfg.pressure_angle_return_limit),
                    'min_radius_of_curvature': cfg.min_radius_of_curvature},
         'pressure_angle_max_deg': degrees(report.pressure_angle_max),
         'pressure_angle_max_at_deg': cam_degrees(report.pressure_angle_max_at),
         'pressure_angle_min_deg': degrees(report.pressure_angle_min),
         'pressure_angle_min_at_deg': cam_degrees(report.pressure_angle_min_at),
+        'pressure_angle_rise_max_deg': degrees(report.pressure_angle_rise[0]),
+        'pressure_angle_rise_max_at_deg': cam_degrees(report.pressure_angle_rise[1]),
+        'pressure_angle_return_max_deg': degrees(report.pressure_angle_return[0]),
+        'pressure_angle_return_max_at_deg': cam_degrees(report.pressure_angle_return[1]),
         'pressure_angle_ok': design.check.pressure_angle_ok,
         'radius_of_curvature_min': report.radius_of_curvature_min,
         'radius_of_curvature_min_at_deg': cam_degrees(report.radius_of_curvature_min_at),
@@ -49,6 +56,13 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'min_base_radius_governing': report.min_base_radius_governing,
         'max_base_radius': report.max_base_radius,
         'max_base_radius_governing': report.max_base_radius_governing or None,
+        'smallest_cam': None if report.smallest_cam is None else {
+            'base_radius': report.smallest_cam.base_radius,
+            'offset': report.smallest_cam.offset,
+            'prime_radius': report.smallest_cam.prime_radius,
+            'governing': report.smallest_cam.governing},
+        'max_roller_radius': report.max_roller_radius,
+        **closure_data(design),
         'face_width': None if report.face_range is None else list(report.face_range),
         'segments': [{
             'index': s.index, 'law': s.law, 'start_deg': degrees(s.start),
@@ -66,16 +80,23 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
             'segment': estimate.segment, 'mean_radius': estimate.estimate.mean_radius,
             'prime_radius': estimate.estimate.prime_radius, 'base_radius': estimate.base_radius,
             'size_index': estimate.estimate.size_index, 'big_cam': estimate.estimate.big_cam},
-        **dynamics_data(report.dynamics),
+        **dynamics_data(report.dynamics, form_closed=design.closure is not None),
         'vibration': vibration_data(report.design.vibration_check),
     }
 
 
-def dynamics_data(dynamics: DynamicsReport | None) -> dict[str, Any]:
-    """Return the report's dynamics keys (SI, angles deg); only 'dynamics': False without."""
+def dynamics_data(dynamics: DynamicsReport | None, form_closed: bool = False) -> dict[str, Any]:
+    """Return the report's dynamics keys (SI, angles deg); only 'dynamics': False without.
+
+    A form-closed cam cannot jump and has no spring: its jump keys are false and null, its
+    contact stress is per side (closure_data).
+    """
     if dynamics is None:
         return {'dynamics': False}
     d = dynamics
+    if form_closed:
+        d = dataclasses.replace(d, jump_angles=(), jump_speed=None, spring_preload_needed=0.0,
+                                contact_stress_max=math.nan, contact_half_width=math.nan)
     return {
         'dynamics': True,
         'contact_force_min': d.contact_force_min,
@@ -159,7 +180,7 @@ def _vibration_rows(report: DesignReport) -> list[tuple[str, str]]:
 
 
 def _limit_state(ok: bool | None) -> str:
-    return {True: 'ok', False: 'VIOLATED', None: 'no limit'}[ok]
+    return LIMIT_STATES[ok]
 
 
 def _follower_line(design: CamDesign) -> str:
@@ -217,24 +238,57 @@ def _dynamics_rows(report: DesignReport) -> list[tuple[str, str]]:
         ('Contact force', f'min {number(d.contact_force_min)} N at '
                           f'{cam_degrees(d.contact_force_min_at, 1):.1f} deg, max '
                           f'{number(d.contact_force_max)} N at '
-                          f'{cam_degrees(d.contact_force_max_at, 1):.1f} deg'),
-        ('', stays),
-        ('Jump speed', speed),
-        ('Spring preload', f'{number(d.spring_preload)} {force}; needed for safety factor '
-                           f'{number(config.jump_safety_factor)}: '
-                           f'{number(d.spring_preload_needed)} {force}'),
+                          f'{cam_degrees(d.contact_force_max_at, 1):.1f} deg'
+                          + (' (negative: on the second side, see Closure)'
+                             if design.closure is not None else '')),
+        *([] if design.closure is not None else [
+            ('', stays),
+            ('Jump speed', speed),
+            ('Spring preload', f'{number(d.spring_preload)} {force}; needed for safety factor '
+                               f'{number(config.jump_safety_factor)}: '
+                               f'{number(d.spring_preload_needed)} {force}')]),
         ('Camshaft torque', f'max |T| {number(d.camshaft_torque_max)} N m at '
                             f'{cam_degrees(d.camshaft_torque_max_at, 1):.1f} deg, rms '
                             f'{number(d.camshaft_torque_rms)} N m'),
         ('', f'peak power {number(d.power_max)} W; net work per revolution '
              f'{number(d.cycle_work)} J (damping and friction)'),
-        ('Contact stress', f'undefined (undercut) from '
-                           f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg; {limit}'
-                           if math.isnan(d.contact_stress_max) else
-                           f'max {number(d.contact_stress_max / 1e6)} MPa at '
-                           f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg, half-width '
-                           f'{number(d.contact_half_width * 1e3)} mm; {limit}'),
+        *([] if design.closure is not None else [
+            ('Contact stress', f'undefined (undercut) from '
+                               f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg; {limit}'
+                               if math.isnan(d.contact_stress_max) else
+                               f'max {number(d.contact_stress_max / 1e6)} MPa at '
+                               f'{cam_degrees(d.contact_stress_max_at, 1):.1f} deg, half-width '
+                               f'{number(d.contact_half_width * 1e3)} mm; {limit}')]),
     ]
+
+
+def _pressure_limit_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the pressure-angle limit line(s): one limit, or the rise's and the return's."""
+    cfg, check = report.design.config, report.design.check
+    if cfg.pressure_angle_limit == cfg.pressure_angle_return_limit:
+        return [('', f'limit |pressure angle| <= {math.degrees(cfg.pressure_angle_limit):g} deg: '
+                     f'{_limit_state(check.pressure_angle_ok)}')]
+    return [('', f'{side}: max |pressure angle| {math.degrees(peak):.2f} deg at '
+                 f'{cam_degrees(at, 1):.1f} deg, limit {math.degrees(limit):g} deg: '
+                 f'{_limit_state(peak <= limit)}')
+            for side, (peak, at), limit in (
+                ('rise', report.pressure_angle_rise, cfg.pressure_angle_limit),
+                ('return', report.pressure_angle_return, cfg.pressure_angle_return_limit))]
+
+
+def _sizing_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the jointly sized cam and the largest roller (rollers only)."""
+    rows = []
+    cam = report.smallest_cam
+    if cam is not None:
+        base = 'none needed' if cam.base_radius is None else f'{number(cam.base_radius)} m'
+        rows.append(('Smallest cam', f'base radius {base} with offset {number(cam.offset)} m '
+                                     f'(prime radius {number(cam.prime_radius)} m, set by '
+                                     f'{cam.governing.replace("_", " ")})'))
+    if report.max_roller_radius is not None:
+        rows.append(('Largest roller', f'{number(report.max_roller_radius)} m on this pitch '
+                                       'curve (its smallest convex radius: undercut beyond)'))
+    return rows
 
 
 def format_report(report: DesignReport, config: str) -> str:
@@ -242,7 +296,6 @@ def format_report(report: DesignReport, config: str) -> str:
     design = report.design
     cfg = design.config
     check = design.check
-    limit = math.degrees(cfg.pressure_angle_limit)
     sense = 'clockwise' if cfg.clockwise else 'counter-clockwise'
     rows = [
         ('Follower', _follower_line(design)),
@@ -253,7 +306,7 @@ def format_report(report: DesignReport, config: str) -> str:
                            f'{cam_degrees(report.pressure_angle_max_at, 1):.1f} deg, min '
                            f'{math.degrees(report.pressure_angle_min):.2f} deg at '
                            f'{cam_degrees(report.pressure_angle_min_at, 1):.1f} deg'),
-        ('', f'limit |pressure angle| <= {limit:g} deg: {_limit_state(check.pressure_angle_ok)}'),
+        *_pressure_limit_rows(report),
         ('Radius of curvature', f'min {number(report.radius_of_curvature_min)} m '
                                 f'at {cam_degrees(report.radius_of_curvature_min_at, 1):.1f} deg'),
         ('', f'limit >= {number(cfg.min_radius_of_curvature)} m: '
@@ -266,6 +319,7 @@ def format_report(report: DesignReport, config: str) -> str:
                            f'{report.min_base_radius_governing.replace("_", " ")})'
                            if report.min_base_radius is not None else 'none found')),
     ]
+    rows += _sizing_rows(report)
     if report.max_base_radius is not None:
         rows.append(('', f'largest meeting the limits: {number(report.max_base_radius)} m (set by '
                          f'{report.max_base_radius_governing.replace("_", " ")})'))
@@ -285,6 +339,7 @@ def format_report(report: DesignReport, config: str) -> str:
                              f'{number(estimate.estimate.mean_radius)} m from the cam centre at '
                              f'mid-rise, {estimate.estimate.size_index:.3g} times the rise'
                              + (': a large cam)' if estimate.estimate.big_cam else ')')))
+    rows += closure_rows(design)
     rows += _dynamics_rows(report) + _vibration_rows(report)
     width = max(len(label) for label, _ in rows) + 2
     lines = [f'Cam design report: {config}', '']

@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from .config.schema import LENGTH_UNITS, CamConfig
+from .dynamics.flanks import form_closed_sides, Side, side_loads, SideLoads, side_values
 from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
@@ -25,10 +26,14 @@ from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, T
                                  TranslatingRoller)
 from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
+from .geometry.closure import (closure_check, ClosureCheck, conjugate_follower, groove_contours,
+                               second_roller_problem)
+from .geometry.machining import cam_contour, Contour
 from .motion.program import Discontinuity, MotionProgram
 from .program_from_config import build_program, in_file_units
 
 TWO_PI = 2.0 * math.pi
+RollerFollower = TranslatingRoller | OscillatingRoller
 #: Added to a velocity jump's warning: it fails the verdict unless the config allows it.
 _VELOCITY_JUMP_NOTE = ('', ' (an infinite acceleration: set limits.allow_velocity_jumps: true '
                            'to accept it)')
@@ -84,8 +89,13 @@ class CamDesign:
         cam = motion if self.surface is self.program else self.surface.evaluate(theta)
         pressure_angle, radius = contact_measures(self.follower, theta, cam.s, cam.ds,
                                                   cam.d2s, clockwise=self.clockwise)
-        forces = None if self.dynamics is None else self.dynamics.values(
-            motion.s, motion.ds, motion.d2s, pressure_angle, radius)
+        if self.dynamics is None:
+            forces = None
+        elif self._sides is not None:  # form-closed: the side carrying the load
+            forces = side_values(self.dynamics, self._sides, theta, motion, cam)
+        else:
+            forces = self.dynamics.values(motion.s, motion.ds, motion.d2s, pressure_angle,
+                                          radius)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
                         motion.ds, motion.d2s, motion.d3s, pressure_angle, radius, forces)
 
@@ -112,7 +122,8 @@ class CamDesign:
         """Check the design against its limits: extremes refined from a dense sampling."""
         return check_geometry(self.geometry(), max_pressure_angle=self.config.pressure_angle_limit,
                               min_radius=self.config.min_radius_of_curvature,
-                              program=self.surface)
+                              program=self.surface,
+                              max_pressure_angle_return=self.config.pressure_angle_return_limit)
 
     @cached_property
     def dynamics_check(self) -> DynamicsReport | None:
@@ -138,13 +149,59 @@ class CamDesign:
         """
         return tuple(jump for jump in self.program.continuity_report() if jump.order == 1)
 
+    def contours(self) -> dict[str, Contour]:
+        """Return the cam's working curves, exact in the cam angle (cam frame, machining.py).
+
+        'surface'; a groove's 'inner' and 'outer' flanks (normals into the groove); a conjugate
+        pair's 'first' and 'second' cams.
+        """
+        f = self.config.follower
+        if f.closure == 'groove':
+            return groove_contours(cast(RollerFollower, self.follower), self.surface,
+                                   self.clockwise, f.groove_clearance)
+        first = cam_contour(self.follower, self.surface, self.clockwise)
+        if f.closure == 'force':
+            return {'surface': first}
+        second = conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+        return {'first': first, 'second': cam_contour(second, self.surface, self.clockwise)}
+
+    @cached_property
+    def closure(self) -> ClosureCheck | None:
+        """Return the second side of a form-closed cam (closure.py), None for force closure."""
+        f = self.config.follower
+        return closure_check(f.closure, self.follower, self.clockwise, self.check, self.surface,
+                             clearance=f.groove_clearance, conjugate_angle=f.conjugate_angle)
+
+    @cached_property
+    def _sides(self) -> tuple[Side, Side] | None:
+        """Return the two sides of a form-closed cam (dynamics/flanks.py), None for force."""
+        f = self.config.follower
+        if f.closure == 'force':
+            return None
+        second = (conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+                  if f.closure == 'conjugate' else None)
+        return form_closed_sides(self.follower, self.clockwise, second, f.groove_clearance)
+
+    @cached_property
+    def side_loads(self) -> SideLoads | None:
+        """Return which side of a form-closed cam carries the load where (with dynamics)."""
+        if self._sides is None or self.dynamics is None:
+            return None
+        return side_loads(self.dynamics, self.program, *self._sides)
+
     @property
     def ok(self) -> bool:
         """Return True when the design meets its limits, is not undercut and does not jump.
 
         A velocity jump at a joint fails it too, unless limits.allow_velocity_jumps is true.
+        A form-closed cam cannot jump: its sides must not be undercut, cam 2 must meet the
+        limits and each side's stress the allowable.
         """
-        dynamics, vibration = self.dynamics_check, self.vibration_check
+        dynamics, vibration, closure = self.dynamics_check, self.vibration_check, self.closure
+        if closure is not None:
+            loads = self.side_loads
+            return (self.check.ok and closure.ok and (loads is None or loads.ok)
+                    and (self.config.allow_velocity_jumps or not self.velocity_jumps))
         return (self.check.ok and (dynamics is None or dynamics.ok)
                 and (vibration is None or not vibration.leaves_cam)
                 and (self.config.allow_velocity_jumps or not self.velocity_jumps))
@@ -152,10 +209,16 @@ class CamDesign:
     def warnings(self) -> list[str]:
         """Say, once, what a designer must know: limits broken, undercut, discontinuities, jump."""
         check, notes = self.check, []
-        if check.pressure_angle_ok is False:
-            notes.append(f'pressure angle reaches {math.degrees(check.max_pressure_angle):.2f} deg'
-                         f' at {math.degrees(check.max_pressure_angle_at):.1f} deg, over the '
-                         f'limit of {math.degrees(self.config.pressure_angle_limit):.1f} deg')
+        rise, ret = self.config.pressure_angle_limit, self.config.pressure_angle_return_limit
+        sides = ((('', (check.max_pressure_angle, check.max_pressure_angle_at), rise),)
+                 if rise == ret else
+                 (('on the rise ', check.pressure_angle_rise, rise),
+                  ('on the return ', check.pressure_angle_return, ret)))
+        for side, (peak, at), limit in sides:
+            if peak > limit:
+                notes.append(f'pressure angle {side}reaches {math.degrees(peak):.2f} deg at '
+                             f'{math.degrees(at):.1f} deg, over the limit of '
+                             f'{math.degrees(limit):.1f} deg')
         if check.radius_ok is False:
             notes.append(f'radius of curvature falls to {check.min_radius:.6g} m at '
                          f'{math.degrees(check.min_radius_at):.1f} deg, under the limit of '
@@ -177,6 +240,8 @@ class CamDesign:
                 notes.append(f'segment {segment.index} ({segment.task}, {segment.law}): '
                              f'ds/dtheta overshoots the velocity of its moving end by '
                              f'{segment.overshoot:.6g} {unit}/rad, as its boundary values force')
+        if self.closure is not None:
+            return notes + self._closure_warnings()
         notes += self._vibration_warnings()
         dynamics = self.dynamics_check
         if dynamics is None:
@@ -193,6 +258,31 @@ class CamDesign:
                          if math.isnan(dynamics.contact_stress_max) else
                          f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
                          f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
+        return notes
+
+    def _closure_warnings(self) -> list[str]:
+        """Say which side of a form-closed cam is undercut, breaks a limit or is overloaded."""
+        closure, notes = cast(ClosureCheck, self.closure), list[str]()
+        for name, side in closure.sides.items():
+            if side.undercut:
+                notes.append(f'the {name} {"flank" if closure.closure == "groove" else "cam"} is '
+                             f'undercut (at {cam_degrees(side.at, 1):.1f} deg)')
+        second = closure.second
+        if second is not None and second.pressure_angle_ok is False:
+            notes.append(f'the second cam\'s pressure angle reaches '
+                         f'{math.degrees(second.max_pressure_angle):.2f} deg at '
+                         f'{cam_degrees(second.max_pressure_angle_at, 1):.1f} deg, over its limit')
+        if second is not None and second.radius_ok is False:
+            notes.append(f'the second cam\'s radius of curvature falls to '
+                         f'{second.min_radius:.6g} m, under the limit')
+        loads = self.side_loads
+        limit = None if loads is None else loads.contact_stress_limit
+        for name, load in zip(closure.sides, () if loads is None else loads.sides):
+            if limit is not None and not load.contact_stress_max <= limit:
+                notes.append(f'contact stress on the {name} side reaches '
+                             f'{load.contact_stress_max / 1e6:.6g} MPa at '
+                             f'{cam_degrees(load.contact_stress_max_at, 1):.1f} deg, over the '
+                             f'allowable {limit / 1e6:.6g} MPa')
         return notes
 
     def _vibration_warnings(self) -> list[str]:
@@ -279,7 +369,19 @@ def build_design(config: CamConfig) -> CamDesign:
         design.geometry()  # the follower must be able to follow the motion everywhere
     except InvalidParameter as err:
         raise _at_cam_angle(err, program, config) from err
+    if config.follower.closure == 'conjugate':
+        _check_second_cam(design)
     return design
+
+
+def _check_second_cam(design: CamDesign) -> None:
+    """Check that the conjugate pair's second roller can follow the motion everywhere."""
+    f = design.config.follower
+    name, value = (('follower.conjugate_angle_deg', math.degrees(f.conjugate_angle))
+                   if design.config.oscillating else ('follower.closure', f.closure))
+    problem = second_roller_problem(design.follower, design.surface, f.conjugate_angle)
+    if problem is not None:
+        raise InvalidParameter(name, value, in_file_units(problem, design.config))
 
 
 def _at_cam_angle(err: InvalidParameter, program: MotionProgram,

@@ -17,6 +17,7 @@ from .design import CamDesign
 from .extremes import CHECK_SAMPLES
 from .dynamics.report import DynamicsReport
 from .geometry.followers import TranslatingRoller
+from .geometry.joint_sizing import SmallestCam, smallest_cam
 from .motion.program import Discontinuity, SegmentSummary
 from .geometry.sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
 
@@ -45,6 +46,11 @@ class DesignReport:
     does), governing says which limit sets it; max_base_radius is the upper end of that feasible
     interval where the base radius is bounded (oscillating followers; None otherwise); face_range
     is the signed interval (m) of contact offsets a flat face must cover (None for rollers).
+    pressure_angle_rise/return are each side's largest |pressure angle| and where (check.py).
+    smallest_cam is the smallest translating-roller cam meeting both pressure-angle limits with
+    base radius and offset chosen together (joint_sizing.py; None for other followers or when
+    the limits bound nothing); max_roller_radius is the largest roller radius that avoids
+    undercut on this pitch curve (see max_roller_radius; m, inf if none; None for flat faces).
     """
 
     design: CamDesign
@@ -66,6 +72,10 @@ class DesignReport:
     quick_estimate: Optional[QuickEstimate]
     warnings: tuple[str, ...]
     dynamics: Optional[DynamicsReport] = None  # None: the design has no dynamics
+    pressure_angle_rise: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_return: tuple[float, float] = (math.nan, math.nan)
+    smallest_cam: Optional[SmallestCam] = None
+    max_roller_radius: Optional[float] = None
 
     @property
     def ok(self) -> bool:
@@ -97,6 +107,7 @@ def design_report(design: CamDesign) -> DesignReport:
     sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
                               clockwise=design.clockwise,
                               max_pressure_angle=design.config.pressure_angle_limit,
+                              max_pressure_angle_return=design.config.pressure_angle_return_limit,
                               min_radius=design.config.min_radius_of_curvature,
                               program=design.surface)
     face = None if check.face_min is None or check.face_max is None \
@@ -121,4 +132,34 @@ def design_report(design: CamDesign) -> DesignReport:
         quick_estimate=quick_estimate(design),
         warnings=tuple(design.warnings()),
         dynamics=design.dynamics_check,
+        pressure_angle_rise=check.pressure_angle_rise,
+        pressure_angle_return=check.pressure_angle_return,
+        smallest_cam=_smallest_cam(design),
+        max_roller_radius=max_roller_radius(design),
     )
+
+
+def max_roller_radius(design: CamDesign) -> Optional[float]:
+    """Return the largest roller radius without undercut on this pitch curve (m; None: flat).
+
+    The pitch curve's smallest convex radius; a groove's roller also meets the outer flank,
+    so its smallest concave radius bounds it too, less half the groove's clearance.
+    """
+    check = design.check
+    if check.pitch_convex_radius_min is None or check.pitch_concave_radius_min is None:
+        return None
+    if design.config.follower.closure != 'groove':
+        return check.pitch_convex_radius_min
+    return (min(check.pitch_convex_radius_min, check.pitch_concave_radius_min)
+            - 0.5 * design.config.follower.groove_clearance)
+
+
+def _smallest_cam(design: CamDesign) -> Optional[SmallestCam]:
+    """Return the jointly sized cam of a translating roller design, else None."""
+    follower = design.follower
+    if not isinstance(follower, TranslatingRoller):
+        return None
+    return smallest_cam(follower.roller_radius, design.surface,
+                        max_pressure_angle=design.config.pressure_angle_limit,
+                        max_pressure_angle_return=design.config.pressure_angle_return_limit,
+                        clockwise=design.clockwise)

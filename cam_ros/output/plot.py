@@ -126,8 +126,14 @@ def _geometry_panels(design: CamDesign, axes: list[Axes], state: CamState,
     pressure, limit = np.degrees(state.pressure_angle), math.degrees(
         design.config.pressure_angle_limit)
     axes[0].plot(degrees, pressure, color='tab:blue', linewidth=1.2)
-    _limit(axes[0], limit, f'limit ±{limit:g} deg')
+    back = math.degrees(design.config.pressure_angle_return_limit)
+    _limit(axes[0], limit, f'limit ±{limit:g} deg' if back == limit
+           else f'rise limit ±{limit:g} deg')
     _limit(axes[0], -limit, '_')
+    if back != limit:  # the return's own limit (|angle| where ds/dtheta <= 0)
+        for sign, label in ((1, f'return limit ±{back:g} deg'), (-1, '_')):
+            axes[0].axhline(sign * back, color='tab:orange', linewidth=0.9, linestyle=':',
+                            label=label)
     _frame(design, axes[0], angle, 'pressure angle (deg)')
     axes[0].legend(loc='upper right', fontsize=7)
     axes[0].set_title('Pressure angle and radius of curvature', fontsize=10)
@@ -157,10 +163,11 @@ def _dynamics_panels(design: CamDesign, axes: list[Axes], state: CamState,
         force_ax.plot(degrees, forces.spring_force, color='tab:gray', linewidth=1.0,
                       label='spring force')
     leaves = forces.contact_force < 0.0
-    if leaves.any():
+    if leaves.any():  # a form-closed cam cannot jump: there its second side takes the load
         force_ax.fill_between(degrees, 0.0, 1.0, where=leaves, color='tab:red', alpha=0.2,
                               transform=force_ax.get_xaxis_transform(),
-                              label='follower leaves the cam')
+                              label='follower leaves the cam' if design.closure is None
+                              else 'the second side carries the load')
     _frame(design, force_ax, angle, 'force (N)')
     force_ax.legend(loc='best', fontsize=7)
     force_ax.set_title(f'Dynamics at {design.config.cam_speed:g} rad/s', fontsize=10)
@@ -235,6 +242,12 @@ def _drawing(design: CamDesign, ax: Axes, angle: float) -> None:
     ax.fill(surface[0], surface[1], color='tab:blue', alpha=0.12, linewidth=0)
     ax.plot(*np.column_stack((surface, surface[:, :1])), color='tab:blue', linewidth=1.6,
             label='cam surface')
+    if design.closure is not None:  # a groove's outer flank, a conjugate pair's second cam
+        name, contour = list(design.contours().items())[-1]
+        other = turn @ contour.evaluate(np.linspace(0.0, 2.0 * math.pi, DRAW_SAMPLES,
+                                                    endpoint=False))[0] * MM_PER_M
+        ax.plot(*np.column_stack((other, other[:, :1])), color='tab:purple', linewidth=1.6,
+                label=f'{name} {"flank" if name == "outer" else "cam"}')
     roller = isinstance(design.follower, (TranslatingRoller, OscillatingRoller))
     ax.plot(*np.column_stack((pitch, pitch[:, :1])), color='tab:orange', linewidth=1.0,
             linestyle='--', label='pitch curve' if roller else 'face reference point path')

@@ -168,7 +168,7 @@ def test_every_shipped_config_exports_a_table(config, tmp_path, capsys):
     (['--tolerance', '5'], ["--tolerance = '5'", 'must be in [', '2] cm']),
     (['--tolerance', '0.1deg'], ['--tolerance', 'must be a length here', 'bare number in cm']),
     (['--tolerance', '1 parsec'], ['--tolerance', "unknown unit 'parsec'"]),
-    (['--format', 'dxf'], ['--format', "invalid choice: 'dxf'"]),
+    (['--format', 'dxf'], ['--format', "'dxf'", 'a cam table takes one of csv, sew, xyva, st']),
     (['--format', 'sew', '--interpolation', 'cubic'], ['--interpolation', 'sew']),
     (['--format', 'st', '--derivatives'], ['--derivatives', 'st']),
     (['--points', '20000', '--format', 'sew'], ['--points = 20000', 'at most 16383']),

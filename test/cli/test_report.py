@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from cli_support import (assert_one_error_line, BASE_RADIUS, DEFAULT_CONFIG, follower_config,
+from cli_support import (assert_one_error_line, BASE_RADIUS, CM, DEFAULT_CONFIG, follower_config,
                          FOLLOWERS, load_parameters, MIN_RADIUS, OMEGA, PRESSURE_LIMIT_DEG,
                          RETURN_SPAN, RISE, RISE_SPAN, ROLLER_RADIUS, run_cli, seed_000_motion,
                          seed_000_roller, SHIPPED_CONFIGS, write_config)
@@ -64,6 +64,7 @@ def test_default_design_meets_its_limits(default_report):
     assert data['pressure_angle_ok'] is True and data['radius_of_curvature_ok'] is True
     assert data['face_width'] is None  # a roller
     assert data['limits'] == {'pressure_angle_deg': PRESSURE_LIMIT_DEG,
+                              'pressure_angle_return_deg': PRESSURE_LIMIT_DEG,  # by default
                               'min_radius_of_curvature': pytest.approx(MIN_RADIUS)}
 
 
@@ -311,3 +312,60 @@ def test_every_shipped_config_reports(config, capsys):
     assert data['min_base_radius'] is None or data['min_base_radius'] > 0
     text = run_cli(capsys, 'report', config)
     assert text.code == code and 'Verdict:' in text.out
+
+
+def test_max_roller_radius_is_the_pitch_curves_smallest_convex_radius(default_report):
+    _, data = default_report
+    theta = np.linspace(0.0, 2 * math.pi, REFERENCE_SAMPLES, endpoint=False)
+    _, rho = seed_000_roller(theta)
+    pitch = rho + ROLLER_RADIUS
+    assert data['max_roller_radius'] == pytest.approx(pitch[pitch > 0].min(),
+                                                      rel=RELATIVE_TOLERANCE)
+    assert data['max_roller_radius'] <= pitch[pitch > 0].min()  # refined: never above
+
+
+def test_smallest_cam_meets_the_rise_and_return_limits(tmp_path, capsys):
+    """The cam `smallest_cam` names, written into the config, meets both limits exactly."""
+    split = edited(tmp_path, 'split', limits__pressure_angle_return_deg=45.0)
+    code, data = report_json(capsys, split)
+    assert code == 0
+    cam = data['smallest_cam']
+    assert set(cam) == {'base_radius', 'offset', 'prime_radius', 'governing'}
+    assert cam['governing'] == 'pressure_angle_rise_and_return'
+    assert cam['prime_radius'] == pytest.approx(cam['base_radius'] + ROLLER_RADIUS, rel=1e-12)
+    assert cam['prime_radius'] < BASE_RADIUS + ROLLER_RADIUS
+    # 1e-9 cm more base radius (the cm round trip costs an ulp): both limits hold, at equality
+    sized = edited(tmp_path, 'sized', limits__pressure_angle_return_deg=45.0,
+                   follower__base_radius=cam['base_radius'] / CM + 1e-9,
+                   follower__offset=cam['offset'] / CM)
+    code, at = report_json(capsys, sized)
+    assert at['pressure_angle_ok'] is True
+    assert at['pressure_angle_rise_max_deg'] == pytest.approx(30.0, abs=1e-6)
+    assert at['pressure_angle_return_max_deg'] == pytest.approx(45.0, abs=1e-6)
+    # the same cam 1e-6 cm smaller breaks a limit
+    smaller = edited(tmp_path, 'smaller', limits__pressure_angle_return_deg=45.0,
+                     follower__base_radius=cam['base_radius'] / CM - 1e-6,
+                     follower__offset=cam['offset'] / CM)
+    code, below = report_json(capsys, smaller)
+    assert code == 1 and below['pressure_angle_ok'] is False
+
+
+def test_a_groove_report_names_each_flank_and_its_radius(tmp_path, capsys):
+    """Seed 000's cam as a groove (no clearance): the inner flank is the spring cam's surface."""
+    groove = edited(tmp_path, 'groove', follower__closure='groove')
+    code, data = report_json(capsys, groove)
+    assert code == 0 and data['closure'] == 'groove' and 'cams' not in data
+    assert set(data['flanks']) == {'inner', 'outer'}
+    theta = np.linspace(0.0, 2 * math.pi, REFERENCE_SAMPLES, endpoint=False)
+    _, rho = seed_000_roller(theta)
+    pitch = rho + ROLLER_RADIUS
+    inner, outer = data['flanks']['inner'], data['flanks']['outer']
+    assert inner['radius_of_curvature_min'] == pytest.approx(rho[rho > 0].min(),
+                                                             rel=RELATIVE_TOLERANCE)
+    concave = -pitch[pitch < 0].max() - ROLLER_RADIUS if (pitch < 0).any() else None
+    assert outer['radius_of_curvature_min'] == (None if concave is None else pytest.approx(
+        concave, rel=RELATIVE_TOLERANCE))
+    assert inner['undercut'] is outer['undercut'] is False
+    assert 'carries_load_deg' not in inner  # no dynamics, no loads
+    _, force = report_json(capsys, DEFAULT_CONFIG)
+    assert force['closure'] == 'force' and 'flanks' not in force

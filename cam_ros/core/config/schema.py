@@ -40,6 +40,7 @@ LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
 FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller',
                   'oscillating_flat')
 ROTATIONS = ('clockwise', 'counterclockwise')
+CLOSURES = ('force', 'groove', 'conjugate')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
 REQUIRED = object()  # default of a parameter the file must give
 #: The optional per-segment arrays of a motion task, one entry per segment when given.
@@ -106,6 +107,14 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        '(oscillating flat-faced)', unit='length_unit'),
     _p('follower.arm_turns_with_cam', 'bool', False, 'Oscillating arm turns in the cam\'s sense '
        'while it rises'),
+    _p('follower.closure', 'string', 'force', 'What keeps the roller on the cam: a spring '
+       '(force), a groove both flanks of which guide it, or a second, conjugate cam',
+       choices=CLOSURES),
+    _p('follower.groove_clearance', 'double', 0.0, 'Groove width minus the roller diameter '
+       '(closure: groove)', unit='length_unit', minimum=0.0),
+    _p('follower.conjugate_angle_deg', 'double', 0.0, 'Angle between the two arms of an '
+       'oscillating conjugate follower (closure: conjugate)', unit='deg', minimum=0.0,
+       maximum=180.0),
     _p('motion.laws', 'string_array', REQUIRED, 'Motion law of each segment'),
     _p('motion.start_deg', 'double_array', REQUIRED, 'Cam angle where each segment starts',
        unit='deg'),
@@ -133,8 +142,12 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('motion.inflection', 'double_array', [], 'Fraction of each segment where the '
        'acceleration of a symmetric law changes sign (default 0.5)', minimum=1e-3,
        maximum=1.0 - 1e-3),
-    _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle|',
+    _p('limits.pressure_angle_deg', 'double', 30.0, 'Largest allowed |pressure angle| on the '
+       'rise (ds/dtheta >= 0; on the return too unless pressure_angle_return_deg is given)',
        unit='deg', minimum=1.0, maximum=89.0),
+    _p('limits.pressure_angle_return_deg', 'double', 0.0, 'Largest allowed |pressure angle| on '
+       'the return (ds/dtheta <= 0; 0: pressure_angle_deg)', unit='deg', minimum=0.0,
+       maximum=89.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
        'of the cam surface where convex', unit='length_unit', minimum=0.0),
     _p('limits.contact_stress', 'double', 0.0, 'Allowable Hertz peak contact pressure p0 '
@@ -231,6 +244,9 @@ class FollowerConfig:
     arm_length: float
     face_offset: float
     arm_turns_with_cam: bool
+    closure: str = 'force'  # form-closed: 'groove' or 'conjugate' (rollers only)
+    groove_clearance: float = 0.0  # m
+    conjugate_angle: float = 0.0  # rad, oscillating conjugate followers
 
 
 @dataclass(frozen=True)
@@ -264,7 +280,8 @@ class CamConfig:
     cam_speed: float
     follower: FollowerConfig
     motion: MotionConfig
-    pressure_angle_limit: float
+    pressure_angle_limit: float  # rad, the rise's (and the return's unless given)
+    pressure_angle_return_limit: float  # rad
     min_radius_of_curvature: float
     allow_velocity_jumps: bool
     sample_count: int
@@ -381,7 +398,8 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         roller_radius=length('roller_radius'), offset=length('offset'),
         pivot_distance=length('pivot_distance'), arm_length=length('arm_length'),
         face_offset=length('face_offset'),
-        arm_turns_with_cam=values['follower.arm_turns_with_cam'])
+        arm_turns_with_cam=values['follower.arm_turns_with_cam'],
+        **_closure(values, metre))
     radian = math.radians(1.0)
     motion = MotionConfig(
         laws=values['motion.laws'],
@@ -412,6 +430,8 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         follower=follower,
         motion=motion,
         pressure_angle_limit=math.radians(values['limits.pressure_angle_deg']),
+        pressure_angle_return_limit=math.radians(values['limits.pressure_angle_return_deg']
+                                                 or values['limits.pressure_angle_deg']),
         min_radius_of_curvature=values['limits.min_radius_of_curvature'] * metre,
         allow_velocity_jumps=values['limits.allow_velocity_jumps'],
         sample_count=values['output.sample_count'],
@@ -437,6 +457,35 @@ def _end_derivatives(values: Mapping[str, Any], side: str,
     return tuple(tuple(value * position_scale * per_degree ** order
                        for order, value in enumerate(row, 1))  # type: ignore[misc]
                  for row in zip(*columns))
+
+
+def _closure(values: Mapping[str, Any], metre: float) -> dict[str, Any]:
+    """Return the follower's closure fields after the rules that span parameters.
+
+    A form-closed cam guides a roller from both sides, so it takes no return spring.
+    """
+    closure = values['follower.closure']
+    if closure != 'force':
+        if not values['follower.type'].endswith('roller'):
+            raise InvalidParameter('follower.closure', closure,
+                                   f'needs a roller follower, not {values["follower.type"]}')
+        for spring in ('dynamics.spring_rate', 'dynamics.spring_preload'):
+            if values[spring]:
+                raise InvalidParameter(spring, values[spring], f'a {closure} cam needs no '
+                                       'return spring (the other flank or cam closes it): '
+                                       'use 0.0')
+    if values['follower.groove_clearance'] and closure != 'groove':
+        raise InvalidParameter('follower.groove_clearance', values['follower.groove_clearance'],
+                               'applies to follower.closure: groove only')
+    if values['follower.conjugate_angle_deg'] and not (
+            closure == 'conjugate' and values['follower.type'] == 'oscillating_roller'):
+        raise InvalidParameter('follower.conjugate_angle_deg',
+                               values['follower.conjugate_angle_deg'],
+                               'applies to an oscillating_roller with follower.closure: '
+                               'conjugate only')
+    return {'closure': closure,
+            'groove_clearance': values['follower.groove_clearance'] * metre,
+            'conjugate_angle': math.radians(values['follower.conjugate_angle_deg'])}
 
 
 def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:

@@ -60,6 +60,7 @@ class CamGeometry:
     pitch_radius: Array
     surface_radius: Array
     contact_offset: Optional[Array]
+    ds: Optional[Array] = None  # the motion's ds/dtheta: its sign tells rise from return
 
     @property
     def pitch_curvature(self) -> Array:
@@ -99,7 +100,7 @@ def _geometry(follower: Follower, theta: Array, s: Array, ds: Array, d2s: Array,
     return CamGeometry(follower, clockwise, _frozen(theta), _frozen(raw.pitch[0]),
                        _frozen(raw.pitch[1]), _frozen(raw.surface[0]), _frozen(raw.surface[1]),
                        _frozen(raw.pressure_angle), _frozen(pitch_radius),
-                       _frozen(raw.surface_radius), offset)
+                       _frozen(raw.surface_radius), offset, _frozen(ds))
 
 
 def cam_geometry(follower: Follower, theta: object, s: object, ds: object, d2s: object, *,

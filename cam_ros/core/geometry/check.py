@@ -4,6 +4,12 @@ The extremes of the geometry's measures are found on the samples and, given the 
 refined between them on the exact motion (:mod:`.extremes`), so the limits are checked between
 the samples too; cusps are then roots of a smooth undercut margin. The base-radius sizing
 (:mod:`.sizing`) solves on the same margins.
+
+Rise and return: theta runs with the cam's rotation, so the follower is pushed away from the cam
+(the rise, the working stroke) where ds/dtheta > 0 and comes back (the return, driven by the
+spring) where ds/dtheta < 0, whatever the sense of rotation. Each side's |pressure angle| is
+checked against its own limit; a dwell (ds/dtheta = 0) belongs to both sides, so the stricter
+limit governs there (the safe side).
 """
 from __future__ import annotations
 
@@ -22,6 +28,22 @@ from ..motion.program import MotionProgram
 Array = np.ndarray
 
 Measure = Callable[[Any], Array]  # of a CamGeometry or a Profile: the same attribute names
+
+
+def turning_breaks(program: MotionProgram, theta: Array, ds: Array) -> Array:
+    """Return the program's breaks and the angles where ds/dtheta changes sign.
+
+    theta: increasing angles in [0, 2 pi), ds the motion's ds/dtheta there. A function of the
+    side (rise or return) jumps or kinks where the follower turns, so those angles split an
+    extreme's search like segment joints; a dwell's own zeros are left out.
+    """
+    breaks = np.asarray(program.breaks, dtype=float)
+    moving = ds != 0.0
+    if np.count_nonzero(moving) < 3:
+        return breaks
+    turns = refine_roots(lambda angles: program.evaluate(angles).ds, theta[moving], ds[moving],
+                         breaks=breaks)
+    return np.concatenate((breaks, turns))
 
 
 class _Extremes:
@@ -44,6 +66,7 @@ class _Extremes:
         distinct = np.concatenate(([True], np.diff(theta[order]) > 0.0))
         self._order, self._theta = order[distinct], theta[order][distinct]
         self._breaks = None if program is None else program.breaks
+        self._side_breaks: Optional[Array] = None
 
     def _function(self, measures: Sequence[Measure]) -> Callable[[Array], Array]:
         """Return the exact measures as a function of cam angles (one row per measure)."""
@@ -53,8 +76,16 @@ class _Extremes:
         def func(angles: Array) -> Array:
             motion = program.evaluate(angles)
             profile = follower._geometry(angles, sigma, motion.s, motion.ds, motion.d2s)
+            profile.ds = motion.ds
             return np.array([measure(profile) for measure in measures])
         return func
+
+    def _breaks_between_sides(self) -> Optional[Array]:
+        """Return the program's breaks and the angles where ds/dtheta changes sign (cached)."""
+        if self._program is not None and self._side_breaks is None:
+            ds = np.asarray(self._sampled.ds)[self._order]
+            self._side_breaks = turning_breaks(self._program, self._theta, ds)
+        return self._side_breaks
 
     def extremes(self, wanted: Sequence[tuple[Measure, str]]) -> list[tuple[float, float]]:
         """Return (value, angle) of each (measure, 'max' or 'min') wanted, refined together."""
@@ -66,8 +97,10 @@ class _Extremes:
                 index = int(np.argmax(values[row]) if kind == 'max' else np.argmin(values[row]))
                 found.append((float(values[row, index]), float(self._theta[index])))
             return found
+        sided = any(measure in SIDE_MEASURES for measure in measures)
         return refine_extrema(self._function(measures), self._theta, values,
-                              [kind for _, kind in wanted], breaks=self._breaks)
+                              [kind for _, kind in wanted],
+                              breaks=self._breaks_between_sides() if sided else self._breaks)
 
     def zeros(self, measure: Measure, inside: Optional[float] = None) -> Array:
         """Return the angles where the measure changes sign (grid: interpolated).
@@ -95,6 +128,19 @@ def _pressure_angle_of(measures: Any) -> Array:
 
 def _abs_pressure_angle(measures: Any) -> Array:
     return np.abs(measures.pressure_angle)
+
+
+def _rise_pressure_angle(measures: Any) -> Array:
+    """|pressure angle| where the follower rises or dwells (ds/dtheta >= 0), else 0."""
+    return np.where(measures.ds >= 0.0, np.abs(measures.pressure_angle), 0.0)
+
+
+def _return_pressure_angle(measures: Any) -> Array:
+    """|pressure angle| where the follower returns or dwells (ds/dtheta <= 0), else 0."""
+    return np.where(measures.ds <= 0.0, np.abs(measures.pressure_angle), 0.0)
+
+
+SIDE_MEASURES = (_rise_pressure_angle, _return_pressure_angle)
 
 
 def _curvature(measures: Any) -> Array:
@@ -152,18 +198,51 @@ def _zero_crossings(theta: Array, margin: Array) -> Array:
     return np.sort(np.concatenate((exact, between)))
 
 
-def _pressure_limit(value: object) -> float:
+def _pressure_limit(value: object, name: str = 'max_pressure_angle') -> float:
     """Return a pressure-angle limit (rad) after checking it lies in (0, pi/2)."""
-    return _real('max_pressure_angle', value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
+    return _real(name, value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
 
 
-def _check_limits(max_pressure_angle: Optional[float],
-                  min_radius: Optional[float]) -> tuple[Optional[float], Optional[float]]:
-    """Validate the optional pressure-angle (rad) and radius (m, >= 0) limits."""
-    angle = None if max_pressure_angle is None else _pressure_limit(max_pressure_angle)
+@dataclass(frozen=True)
+class PressureLimits:
+    """The allowed |pressure angle| (rad) on the rise and on the return (see the module doc)."""
+
+    rise: float
+    ret: float
+
+    @property
+    def single(self) -> bool:
+        """Return True when both sides share one limit (then it is named 'pressure_angle')."""
+        return self.rise == self.ret
+
+    def margins(self, rise_peak: float, return_peak: float) -> dict[str, float]:
+        """Return each side's margin (>= 0 when met), keyed by the limit's name."""
+        if self.single:
+            return {'pressure_angle': self.rise - max(rise_peak, return_peak)}
+        return {'pressure_angle_rise': self.rise - rise_peak,
+                'pressure_angle_return': self.ret - return_peak}
+
+
+def _check_limits(max_pressure_angle: Optional[float], min_radius: Optional[float],
+                  max_pressure_angle_return: Optional[float] = None,
+                  ) -> tuple[Optional[PressureLimits], Optional[float]]:
+    """Validate the optional pressure-angle (rad; return: default the rise's) and radius limits.
+
+    A return limit needs a rise limit.
+    """
+    if max_pressure_angle is None:
+        if max_pressure_angle_return is not None:
+            raise InvalidParameter('max_pressure_angle', None,
+                                   'give it with max_pressure_angle_return (the rise limit)')
+        angles = None
+    else:
+        rise = _pressure_limit(max_pressure_angle)
+        angles = PressureLimits(rise, rise if max_pressure_angle_return is None else
+                                _pressure_limit(max_pressure_angle_return,
+                                                'max_pressure_angle_return'))
     radius = None if min_radius is None else _real('min_radius', min_radius,
                                                    lambda x: x >= 0.0, '>= 0 (m)')
-    return angle, radius
+    return angles, radius
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,7 +257,13 @@ class GeometryCheck:
     the convex parts of the surface (m; inf if none is convex). The *_ok fields are None when no
     limit was given. face_min/face_max (m) bound the contact offset on a flat face (None for
     rollers): the face must reach from face_min to face_max. pressure_angle_high/low are the
-    signed extremes of the pressure angle (rad) and the angles where they occur.
+    signed extremes of the pressure angle (rad) and the angles where they occur;
+    pressure_angle_rise/return are the largest |pressure angle| on each side (rise: ds/dtheta
+    >= 0, return: <= 0; see the module doc) and where, each checked against its own limit
+    (pressure_angle_limit for the rise, pressure_angle_return_limit for the return).
+    pitch_convex_radius_min/pitch_concave_radius_min are the smallest radii of the convex and of
+    the concave parts of a roller's pitch curve (m, inf if none; None for flat faces): a roller
+    must stay below the first (undercut), a groove's roller below both.
     """
 
     undercut_angles: Array
@@ -195,6 +280,11 @@ class GeometryCheck:
     face_max: Optional[float]
     pressure_angle_high: tuple[float, float] = (math.nan, math.nan)
     pressure_angle_low: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_rise: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_return: tuple[float, float] = (math.nan, math.nan)
+    pressure_angle_return_limit: Optional[float] = None
+    pitch_convex_radius_min: Optional[float] = None
+    pitch_concave_radius_min: Optional[float] = None
 
     @property
     def undercut(self) -> bool:
@@ -217,34 +307,46 @@ class GeometryCheck:
 
 def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float] = None,
                    min_radius: Optional[float] = None,
-                   program: Optional[MotionProgram] = None) -> GeometryCheck:
+                   program: Optional[MotionProgram] = None,
+                   max_pressure_angle_return: Optional[float] = None) -> GeometryCheck:
     """Check a geometry for undercut and cusps and against optional limits.
 
-    max_pressure_angle (rad) bounds |pressure angle|; min_radius (m) bounds the radius of
-    curvature of the convex parts of the surface (for a roller, a pitch-curve limit P is the
-    surface limit P - Rr). With program (the motion the geometry was sampled from, densely over
-    a whole revolution), every extreme is refined between the samples on the exact motion and
-    cusps are roots; without it, the samples' values are used. The verdict is returned as data,
-    never raised.
+    max_pressure_angle (rad) bounds |pressure angle| on the rise, max_pressure_angle_return on
+    the return (default: the same; see the module doc for the sides); min_radius (m) bounds the
+    radius of curvature of the convex parts of the surface (for a roller, a pitch-curve limit P
+    is the surface limit P - Rr). With program (the motion the geometry was sampled from,
+    densely over a whole revolution), every extreme is refined between the samples on the exact
+    motion and cusps are roots; without it, the samples' values are used. The verdict is
+    returned as data, never raised.
     """
     if not isinstance(geometry, CamGeometry):
         raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
     if program is not None and not isinstance(program, MotionProgram):
         raise InvalidParameter('program', program, 'must be a MotionProgram or None')
-    angle_limit, radius_limit = _check_limits(max_pressure_angle, min_radius)
+    angles, radius_limit = _check_limits(max_pressure_angle, min_radius,
+                                         max_pressure_angle_return)
     follower = geometry.follower
+    roller = isinstance(follower, ROLLERS)
     wanted = [(_pressure_angle_of, 'max'), (_pressure_angle_of, 'min'),
+              (_rise_pressure_angle, 'max'), (_return_pressure_angle, 'max'),
               _worst_curvature(follower)]
+    if roller:
+        wanted.append((_curvature, 'min'))
     if geometry.contact_offset is not None:
         wanted += [(_contact_offset, 'min'), (_contact_offset, 'max')]
     extremes = _Extremes(follower, geometry.clockwise, geometry.theta, geometry, program)
-    high, low, (worst, worst_at), *face = extremes.extremes(wanted)
+    high, low, rise, ret, (worst, worst_at), *rest = extremes.extremes(wanted)
     peak, peak_at = max(high, (-low[0], low[1]))
+    convex: Optional[float] = None
+    concave: Optional[float] = None
     if isinstance(follower, ROLLERS):
         undercut_margin = 1.0 - follower.roller_radius * worst
         smallest = 1.0 / worst - follower.roller_radius if worst > 0.0 else math.inf
+        concave = -1.0 / rest[0][0] if rest[0][0] < 0.0 else math.inf
+        convex, face = smallest + follower.roller_radius, rest[1:]
     else:
         undercut_margin = smallest = worst
+        face = rest
     undercut = _undercut_measure(follower)
     dip = worst_at if undercut_margin <= 0.0 else None
     at = np.asarray(geometry.theta)[np.asarray(undercut(geometry)) <= 0.0]
@@ -255,8 +357,9 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         cusp_angles=_frozen(extremes.zeros(undercut, dip)),
         max_pressure_angle=peak,
         max_pressure_angle_at=peak_at,
-        pressure_angle_limit=angle_limit,
-        pressure_angle_ok=None if angle_limit is None else angle_limit - peak >= 0.0,
+        pressure_angle_limit=None if angles is None else angles.rise,
+        pressure_angle_ok=None if angles is None
+        else min(angles.margins(rise[0], ret[0]).values()) >= 0.0,
         min_radius=smallest,
         min_radius_at=worst_at,
         radius_limit=radius_limit,
@@ -266,4 +369,9 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         face_max=face[1][0] if face else None,
         pressure_angle_high=high,
         pressure_angle_low=low,
+        pressure_angle_rise=rise,
+        pressure_angle_return=ret,
+        pressure_angle_return_limit=None if angles is None else angles.ret,
+        pitch_convex_radius_min=convex,
+        pitch_concave_radius_min=concave,
     )

@@ -72,20 +72,27 @@ def roller_profile(theta: Array, sigma: int, centre: Array, d_centre: Array, d2_
         pitch_radius = 1.0 / curvature
     return Profile(theta, sigma, centre, centre - roller_radius * normal,
                    pressure_angle(sigma, motion, normal), curvature,
-                   pitch_radius - roller_radius, None)
+                   pitch_radius - roller_radius, None, normal)
 
 
 class Profile:
-    """Raw fixed-frame results of one follower, turned into the cam frame on demand."""
+    """Raw fixed-frame results of one follower, turned into the cam frame on demand.
+
+    normal is the unit normal of the cam surface at the contact, from the cam to the follower
+    (fixed frame). ds is the motion's ds/dtheta, set by a caller that splits the pressure angle
+    into rise and return (see check.py); None until then.
+    """
 
     def __init__(self, theta: Array, sigma: int, pitch: Array, contact: Array, angle: Array,
-                 pitch_curvature: Array, surface_radius: Array, offset: Optional[Array]):
+                 pitch_curvature: Array, surface_radius: Array, offset: Optional[Array],
+                 normal: Array):
         self._theta, self._sigma = theta, sigma
-        self._pitch, self._contact = pitch, contact
+        self._pitch, self._contact, self._normal = pitch, contact, normal
         self.pressure_angle = angle
         self.pitch_curvature = pitch_curvature
         self.surface_radius = surface_radius
         self.contact_offset = offset
+        self.ds: Optional[Array] = None
 
     @property
     def pitch(self) -> Array:
@@ -96,3 +103,8 @@ class Profile:
     def surface(self) -> Array:
         """Return the cam surface (contact points) in the cam frame."""
         return to_cam_frame(self._theta, self._sigma, self._contact)
+
+    @property
+    def surface_normal(self) -> Array:
+        """Return the surface's outward unit normal (cam to follower) in the cam frame."""
+        return to_cam_frame(self._theta, self._sigma, self._normal)

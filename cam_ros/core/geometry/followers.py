@@ -134,7 +134,8 @@ class TranslatingFlat:
         trace = np.array((zero, distance))
         _, trace_curvature = relative_motion(sigma, trace, np.array((zero, ds)),
                                              np.array((zero, d2s)))
-        return Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds)
+        return Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds,
+                       np.array((zero, one)))
 
 
 def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:
@@ -258,7 +259,7 @@ class OscillatingFlat:
         along = dot(contact - foot, u)
         angle = pressure_angle(sigma, along * w + f * u, w)
         _, foot_curvature = relative_motion(sigma, foot, f * ds * u, f * (d2s * u + ds ** 2 * w))
-        return Profile(theta, sigma, foot, contact, angle, foot_curvature, radius, along)
+        return Profile(theta, sigma, foot, contact, angle, foot_curvature, radius, along, w)
 
 
 Follower = Union[TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat]

@@ -19,7 +19,8 @@ from ..errors import InvalidParameter
 from .followers import _check_follower, _real, Follower
 from .cam_geometry import _check_motion
 from .check import (_abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
-                    _worst_curvature, Measure)
+                    _return_pressure_angle, _rise_pressure_angle, _worst_curvature, Measure,
+                    PressureLimits)
 from ..motion.program import MotionProgram
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
@@ -61,28 +62,35 @@ class BaseRadiusSizing:
 
 
 def _margins(follower: Follower, motion: tuple[np.ndarray, ...], clockwise: bool,
-             angle: Optional[float], radius: Optional[float],
+             angles: Optional[PressureLimits], radius: Optional[float],
              program: Optional[MotionProgram]) -> dict[str, float]:
     """Return each limit's margin (>= 0 when met) for one follower, or the invalid sentinel.
 
     With a program the extremes are refined on the exact motion, else the samples' are taken.
+    Two pressure-angle limits give a margin per side (check.py's rise and return).
     """
     theta, s, ds, d2s = motion
     if follower._motion_problem(s, ds) is not None:
         return {'geometry': _INVALID}
     wanted: dict[str, tuple[Measure, str]] = {}
-    if angle is not None:
+    if angles is not None and angles.single:
         wanted['pressure_angle'] = (_abs_pressure_angle, 'max')
+    elif angles is not None:
+        wanted['rise'] = (_rise_pressure_angle, 'max')
+        wanted['return'] = (_return_pressure_angle, 'max')
     if radius is not None:
         wanted['radius'] = _worst_curvature(follower)
     sampled = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
+    sampled.ds = ds
     extremes = _Extremes(follower, clockwise, theta, sampled, program)
-    found = dict(zip(wanted, extremes.extremes(list(wanted.values()))))
+    found = {name: value for name, (value, _) in zip(wanted, extremes.extremes(
+        list(wanted.values())))}
     margins = {}
-    if angle is not None:
-        margins['pressure_angle'] = angle - found['pressure_angle'][0]
+    if angles is not None:
+        margins = angles.margins(found.get('rise', found.get('pressure_angle', 0.0)),
+                                 found.get('return', found.get('pressure_angle', 0.0)))
     if radius is not None:
-        margins['radius'] = _radius_margin(follower, found['radius'][0], radius)
+        margins['radius'] = _radius_margin(follower, found['radius'], radius)
     return margins
 
 
@@ -155,11 +163,14 @@ def _lowest_feasible(margins: Margins, candidates: np.ndarray) -> Optional[int]:
 def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d2s: object, *,
                      clockwise: bool = False, max_pressure_angle: Optional[float] = None,
                      min_radius: Optional[float] = None, tolerance: float = SIZING_TOLERANCE,
-                     program: Optional[MotionProgram] = None) -> BaseRadiusSizing:
+                     program: Optional[MotionProgram] = None,
+                     max_pressure_angle_return: Optional[float] = None) -> BaseRadiusSizing:
     """Find the smallest base radius (m) that meets the limits on the sampled motion.
 
-    The limits: max |pressure angle| <= max_pressure_angle (rad) and radius of curvature of the
-    convex parts of the surface >= min_radius (m); give one or both. The other follower parameters
+    The limits: max |pressure angle| <= max_pressure_angle (rad) on the rise and
+    max_pressure_angle_return on the return (default: the same; sides as in check.py), and
+    radius of curvature of the convex parts of the surface >= min_radius (m); give a
+    pressure-angle limit, min_radius or both. The other follower parameters
     stay fixed. Candidate radii are scanned upwards and the first feasible one is refined with
     brentq against its infeasible predecessor; the result meets the limits and lies within
     tolerance (m) of the exact boundary. If the margins are not monotone in the radius, a feasible
@@ -170,7 +181,7 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
     """
     _check_follower(follower)
     motion = _check_motion(theta, s, ds, d2s)
-    angle, radius = _check_limits(max_pressure_angle, min_radius)
+    angle, radius = _check_limits(max_pressure_angle, min_radius, max_pressure_angle_return)
     if angle is None and radius is None:
         raise InvalidParameter('max_pressure_angle', None,
                                'give max_pressure_angle and/or min_radius to size for')
