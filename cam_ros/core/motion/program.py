@@ -18,17 +18,17 @@ full turn per cycle); then s(theta + 2 pi n) = s(theta) + n advance.
 import math
 import numbers
 from dataclasses import dataclass
-from functools import cached_property, partial
+from functools import cached_property
 from typing import Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 from ..arrays import checked_array, finite_float, float_array, FloatArray
-from ._law_base import characteristic_values, LawValues, workspace
+from ._law_base import LawValues, workspace
 from ._polynomial import BoundaryPolynomial
 from ..errors import InvalidParameter
-from ..extremes import refine_extremum
+from ..extremes import refine_extrema
 from .laws import Dwell, LAWS, MotionLaw
 
 TWO_PI = 2.0 * math.pi
@@ -40,8 +40,8 @@ POSITION_TOLERANCE = 1e-9
 #: scale there, |stroke| / span**k of the segments on either side (or the larger one-sided
 #: value): rounding noise at joints that are smooth in exact arithmetic.
 JUMP_TOLERANCE = 1e-9
-#: Samples of a moving segment's velocity refined for its overshoot.
-OVERSHOOT_SAMPLES = 1025
+#: Samples of a moving segment's velocity whose extremes are refined (peak, overshoot, reversal).
+VELOCITY_SAMPLES = 1025
 
 
 @dataclass(frozen=True)
@@ -404,37 +404,44 @@ class MotionProgram:
             law, amplitude, span = segment.law, abs(segment.amplitude), segment.span
             peaks = [amplitude * value / span ** order if amplitude else 0.0
                      for order, value in ((1, law.cv), (2, law.ca), (3, law.cj))]
-            if segment.ramp:  # |ramp + amplitude y'/span| peaks where it peaks, found as cv is
-                peaks[0] = characteristic_values(partial(segment_values, segment),
-                                                 law.breakpoints)[0]
             task = motion_task(segment)
+            overshoot = 0.0
+            if segment.ramp or 'G' in task or 'B' in task:
+                velocity = velocity_extremes(segment)
+                if segment.ramp:  # ramp + amplitude y'/span does not peak where y' does
+                    peaks[0] = max(velocity[0][0], -velocity[1][0])
+                overshoot = _overshoot(segment, task, velocity)
             summaries.append(SegmentSummary(
                 number, law.name, segment.start, segment.end, segment.s_start, segment.s_end,
                 law.cv, law.ca, law.cj, peaks[0], peaks[1], peaks[2], task,
-                getattr(law, 'inflection', 0.5),
-                _overshoot(segment, task)))
+                getattr(law, 'inflection', 0.5), overshoot))
         return tuple(summaries)
 
 
-def _overshoot(segment: Segment, task: str) -> float:
+def velocity_extremes(segment: Segment) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Return (value, u) of the largest and of the smallest ds/dtheta on a segment, refined."""
+    u = np.linspace(0.0, 1.0, VELOCITY_SAMPLES)
+
+    def both(x: FloatArray) -> FloatArray:
+        ds = segment_values(segment, x).y1
+        return np.stack([ds, ds])
+
+    highest, lowest = refine_extrema(both, u, both(u), ('max', 'min'),
+                                     breaks=segment.law.breakpoints, period=None)
+    return highest, lowest
+
+
+def _overshoot(segment: Segment, task: str,
+               velocity: tuple[tuple[float, float], tuple[float, float]]) -> float:
     """Return how far ds/dtheta passes the larger end |ds| in the direction of a moving end.
 
-    Refined to the true peak; 0 when it stays within (below JUMP_TOLERANCE of its scale).
+    velocity: the segment's refined velocity_extremes; 0 when ds stays within (below
+    JUMP_TOLERANCE of its scale).
     """
-    u = np.linspace(0.0, 1.0, OVERSHOOT_SAMPLES)
     ends = [float(segment_values(segment, at).y1) for at in (0.0, 1.0)]
     larger = max(abs(value) for value in ends)
-    excess = 0.0
-    for velocity, kind in zip(ends, task.split('-')):
-        if kind in 'GB':
-            sign = math.copysign(1.0, velocity)
-
-            def along(x: FloatArray, sign: float = sign) -> FloatArray:
-                return sign * segment_values(segment, x).y1
-
-            peak, _ = refine_extremum(along, u, along(u), 'max',
-                                      breaks=segment.law.breakpoints, period=None)
-            excess = max(excess, peak - larger)
+    excess = max([velocity[0][0] - larger if value > 0.0 else -velocity[1][0] - larger
+                  for value, kind in zip(ends, task.split('-')) if kind in 'GB'], default=0.0)
     return excess if excess > JUMP_TOLERANCE * natural_scale(segment, 1) else 0.0
 
 

@@ -20,21 +20,18 @@ import math
 from dataclasses import dataclass
 from typing import Sequence
 
-import numpy as np
-
 from ..errors import InvalidParameter
 from ._polynomial import BoundaryPolynomial, Poly5, Poly7
 from .inflection import inflected
 from .laws import Dwell, MotionLaw
-from .program import check_fields, motion_task, natural_scale, Segment, segment_values
+from .program import (check_fields, motion_task, natural_scale, Segment, segment_values,
+                      velocity_extremes)
 
 #: The boundary polynomials by name, and what the end fields are called.
 BOUNDARY_LAWS: dict[str, type[BoundaryPolynomial]] = {'poly5': Poly5, 'poly7': Poly7}
 END_FIELDS = ('velocity', 'acceleration', 'jerk')
 #: A given end value matches the law's own within this times its natural scale.
 MATCH_TOLERANCE = 1e-9
-#: Samples of a segment's velocity searched for a reversal before its U end.
-REVERSAL_SAMPLES = 2049
 
 
 @dataclass(frozen=True)
@@ -63,8 +60,8 @@ def _superposed(spec: TaskSpec, index: int) -> Segment:
     if v0 != v1:
         raise InvalidParameter(_field(index, 'end', 1), spec.finish[0],
                                f'differs from the start velocity {v0!r} per rad^1: law {law.name} '
-                               'joins '
-                               'equal end velocities only (R-R, G-G); poly5 or poly7 joins any')
+                               'joins equal end velocities only (R-R, G-G); poly5 or poly7 joins '
+                               'any')
     if isinstance(law, Dwell) and v0:
         raise InvalidParameter(_field(index, 'start', 1), v0,
                                'must be 0 for a dwell (constant_velocity moves)')
@@ -82,10 +79,9 @@ def _superposed(spec: TaskSpec, index: int) -> Segment:
             if not math.isnan(value) and abs(value - has) > MATCH_TOLERANCE * scale:
                 raise InvalidParameter(
                     _field(index, side, order), value,
-                    f'law {law.name} has {has!r} per rad^{order} there (its own '
-                    'shape sets it); '
-                    f'give poly5 (velocity, acceleration) or poly7 (and jerk) for other '
-                    f'end values')
+                    f'law {law.name} has {has!r} per rad^{order} there (its own shape sets it); '
+                    'give poly5 (velocity, acceleration) or poly7 (and jerk) for other end '
+                    'values')
     return segment
 
 
@@ -130,22 +126,21 @@ def _boundary(spec: TaskSpec, index: int, specs: Sequence[TaskSpec],
 
 
 def _check_reversal(segment: Segment, index: int) -> None:
-    """Refuse a task with a U end whose velocity changes sign inside the segment."""
+    """Refuse a task with a U end whose velocity changes sign inside the segment.
+
+    The refined largest and smallest ds/dtheta both beyond rounding: it runs both ways.
+    """
     task = motion_task(segment)
     if 'U' not in task:
         return
-    u = np.linspace(0.0, 1.0, REVERSAL_SAMPLES)[1:-1]
-    ds = segment_values(segment, u)[1]
+    (highest, _), (lowest, _) = velocity_extremes(segment)
     tolerance = MATCH_TOLERANCE * natural_scale(segment, 1)
-    signs = np.sign(ds) * (np.abs(ds) > tolerance)
-    moving = signs[signs != 0.0]
-    if moving.size and np.any(moving != moving[0]):
-        turn = segment.start + u[np.argmax(signs == -moving[0])] * segment.span
+    if highest > tolerance and lowest < -tolerance:
         raise InvalidParameter(
             f'segments[{index}].s_end', segment.s_end,
-            f'a {task} segment reverses at its U end, but this one reverses inside, near '
-            f'{math.degrees(turn) % 360.0:.3g} deg: its reversal point lies behind its start; '
-            'the stroke must point the way the follower moves')
+            f'a {task} segment reverses at its U end, but this one runs both ways (ds/dtheta '
+            f'from {lowest:.6g} to {highest:.6g} per rad^1): its reversal point lies behind its '
+            'start; the stroke must point the way the follower moves')
 
 
 def build_segments(specs: Sequence[TaskSpec]) -> tuple[Segment, ...]:
