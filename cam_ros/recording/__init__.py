@@ -5,14 +5,14 @@ Recorder writes the exact wire bytes of chosen topics (plus text attachments suc
 design) into one .mcap file that `ros2 bag`, Foxglove, PlotJuggler and rosbags open;
 open_recording / info / format_info inspect and decode it (also after a crash), parameter_changes
 lists the parameter events it holds; recover rewrites a file cut short by a killed recorder into a
-finished one; replay publishes it back with the recorded QoS and timing.
+finished one; replay (or a Player) publishes it back with the recorded QoS and timing.
 """
 
 from cam_ros.recording.reader import open_recording, RecordedMessage, Recording, TopicInfo
 from cam_ros.recording.parameters import (CONFIG_ATTACHMENT, ParameterChange,
                                           PARAMETERS_ATTACHMENT, parameter_changes, params_file)
 from cam_ros.recording.recover import recover, Recovery
-from cam_ros.recording.replay import replay
+from cam_ros.recording.replay import Player, replay
 from cam_ros.recording.summary import format_info, info
 from cam_ros.recording.writer import PARAMETER_EVENTS, Recorder, TopicSpec
 
@@ -21,6 +21,7 @@ __all__ = [
     'PARAMETERS_ATTACHMENT',
     'PARAMETER_EVENTS',
     'ParameterChange',
+    'Player',
     'RecordedMessage',
     'Recorder',
     'Recording',

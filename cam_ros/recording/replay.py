@@ -21,6 +21,79 @@ ACK_TIMEOUT = 1.0
 _POLL = 0.01  # seconds between subscriber-count checks
 
 
+class Player:
+    """
+    A recording's topics offered on a node, each with its recorded QoS, ready to play.
+
+    The publishers exist from construction on, so a caller can make sure a subscriber has matched
+    them (e.g. that a best-effort subscriber answered a probe sent through `publishers[topic]`)
+    before `play`: DDS tells a writer only that it matched a reader, not that the reader has
+    matched it, and a best-effort reader drops what comes before. Close it (or use `with`) to
+    destroy the publishers.
+    """
+
+    def __init__(self, recording: Union[Recording, str, os.PathLike], node: Node,
+                 topics: Optional[Iterable[str]] = None) -> None:
+        self.recording = (recording if isinstance(recording, Recording)
+                          else open_recording(recording))
+        selected = list(self.recording.topics) if topics is None else list(topics)
+        for index, name in enumerate(selected):
+            if name not in self.recording.topics:
+                known = sorted(self.recording.topics)
+                raise InvalidParameter(f'topics[{index}]', name,
+                                       f'must be a recorded topic: {known}')
+        self._node = node
+        self.publishers = {name: _publisher(node, self.recording, name) for name in selected}
+
+    def wait_for_subscribers(self, timeout: float, stop: Optional[threading.Event] = None) -> bool:
+        """Wait up to `timeout` s (or until `stop`) for every topic to have a subscriber."""
+        if timeout < 0:
+            raise InvalidParameter('wait_for_subscribers', timeout, 'must be non-negative seconds')
+        stop = stop or threading.Event()
+        deadline = time.monotonic() + timeout
+        while not self._subscribed():
+            if time.monotonic() >= deadline or stop.wait(_POLL):
+                return self._subscribed()
+        return True
+
+    def play(self, rate: Optional[float] = 1.0, loop: bool = False,
+             on_message: Optional[Callable[[RecordedMessage], None]] = None,
+             stop: Optional[threading.Event] = None) -> int:
+        """
+        Publish the recorded wire bytes; return how many were published.
+
+        Messages keep their log-time spacing divided by `rate` (None: as fast as possible);
+        `loop` repeats until `stop` is set; `on_message` sees each published message. Reliable
+        publishers get ACK_TIMEOUT s at the end to have everything acknowledged.
+        """
+        _check_rate(rate)
+        stop = stop or threading.Event()
+        count = 0
+        while not stop.is_set():
+            published = _play_once(self.recording, self.publishers, rate, on_message, stop)
+            count += published
+            if not loop or not published:
+                break
+        for publisher in self.publishers.values():
+            publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT))
+        return count
+
+    def close(self) -> None:
+        """Destroy the publishers."""
+        for publisher in self.publishers.values():
+            self._node.destroy_publisher(publisher)
+        self.publishers = {}
+
+    def __enter__(self) -> 'Player':
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def _subscribed(self) -> bool:
+        return all(p.get_subscription_count() > 0 for p in self.publishers.values())
+
+
 def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,
            rate: Optional[float] = 1.0, topics: Optional[Iterable[str]] = None,
            loop: bool = False, on_message: Optional[Callable[[RecordedMessage], None]] = None,
@@ -28,43 +101,19 @@ def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,
     """
     Publish the recorded wire bytes of `topics` (default all) from `node`; return the count.
 
-    Each topic gets a publisher offering its recorded QoS (so latched topics stay latched while
-    replaying). Messages keep their log-time spacing divided by `rate` (None: as fast as
-    possible); `loop` repeats until `stop` is set. `wait_for_subscribers` seconds are allowed for
-    every topic to have a subscriber before the first message; `on_message` sees each published
-    message. Blocks until done: run it in a thread to replay alongside other work.
+    A one-shot Player: `wait_for_subscribers` seconds are allowed for every topic to have a
+    subscriber before the first message, then `Player.play` (see there). Blocks until done: run
+    it in a thread to replay alongside other work.
     """
+    _check_rate(rate)  # before any publisher exists or any waiting
+    with Player(recording, node, topics) as player:
+        player.wait_for_subscribers(wait_for_subscribers, stop)
+        return player.play(rate, loop, on_message, stop)
+
+
+def _check_rate(rate: Optional[float]) -> None:
     if rate is not None and not rate > 0:
         raise InvalidParameter('rate', rate, 'must be positive (or None: as fast as possible)')
-    if wait_for_subscribers < 0:
-        raise InvalidParameter('wait_for_subscribers', wait_for_subscribers,
-                               'must be non-negative seconds')
-    if not isinstance(recording, Recording):
-        recording = open_recording(recording)
-    selected = list(recording.topics) if topics is None else list(topics)
-    for index, name in enumerate(selected):
-        if name not in recording.topics:
-            raise InvalidParameter(f'topics[{index}]', name,
-                                   f'must be a recorded topic: {sorted(recording.topics)}')
-    stop = stop or threading.Event()
-    publishers = {name: _publisher(node, recording, name) for name in selected}
-    try:
-        deadline = time.monotonic() + wait_for_subscribers
-        while (any(p.get_subscription_count() == 0 for p in publishers.values())
-               and time.monotonic() < deadline and not stop.wait(_POLL)):
-            pass
-        count = 0
-        while not stop.is_set():
-            published = _play_once(recording, publishers, rate, on_message, stop)
-            count += published
-            if not loop or not published:
-                break
-        for publisher in publishers.values():
-            publisher.wait_for_all_acked(Duration(seconds=ACK_TIMEOUT))
-        return count
-    finally:
-        for publisher in publishers.values():
-            node.destroy_publisher(publisher)
 
 
 def _publisher(node: Node, recording: Recording, name: str) -> Publisher:

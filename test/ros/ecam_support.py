@@ -59,17 +59,19 @@ class MasterLink:
         with self.inbox[key].arrived:
             return list(self.inbox[key].messages)
 
-    def connect(self, process, stamp_ns: int = 1, advance: bool = True) -> None:
+    def connect(self, process, stamp_ns: int = 1, advance: bool = True, publisher=None) -> None:
         """
         Send probes (position 0, at rest) until the node answers one: every path matched.
 
-        Probes carry stamp_ns, counting up from it with advance (else the node takes only one).
+        Probes carry stamp_ns, counting up from it with advance (else the node takes only one);
+        they go through `publisher` when given (e.g. a replay's), else through the link's own.
         """
+        publisher = publisher or self.publisher
         deadline = time.monotonic() + WAIT_S
         while not (self.messages('commands') and self.messages('joints')):
             assert process.process.poll() is None, process.log()
             assert time.monotonic() < deadline, f'no commands from the node:\n{process.log()}'
-            self.publisher.publish(master_message(stamp_ns, velocity=(0.0,)))
+            publisher.publish(master_message(stamp_ns, velocity=(0.0,)))
             stamp_ns += advance
             time.sleep(0.2)
         time.sleep(0.3)  # let the last probes' answers in

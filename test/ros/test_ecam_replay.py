@@ -8,7 +8,7 @@ from conftest import CONFIG_DIR
 from ecam_support import master_message, MasterLink, stamp_of, WAIT_S
 from std_msgs.msg import Float64MultiArray
 
-from cam_ros.recording import open_recording, replay
+from cam_ros.recording import open_recording, Player
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=30.0', '-p', 'slave.scaling:=2.0',
@@ -48,10 +48,13 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
 
     second, _ = start_cam_node(DEFAULT, *ECAM, name='cam')
     fresh = MasterLink(executor)
-    fresh.connect(second, stamp_ns=0, advance=False)  # one probe, older than every recording
-    before = len(fresh.messages('commands'))
-    player = executor.node('player')
-    count = replay(recording, player, topics=['/cam/master'], rate=1.0, wait_for_subscribers=5.0)
+    with Player(recording, executor.node('player'), topics=['/cam/master']) as player:
+        # One probe, older than every recording, through the replaying publisher: once the node
+        # answers it, its best-effort subscription has matched that publisher and loses nothing.
+        fresh.connect(second, stamp_ns=0, advance=False,
+                      publisher=player.publishers['/cam/master'])
+        before = len(fresh.messages('commands'))
+        count = player.play(rate=1.0)
     assert count == len(recorded['/cam/master'])
     fresh.inbox['commands'].wait(before + count, WAIT_S)
     replayed = fresh.inbox['joints'].wait(before + count, WAIT_S)[before:]
