@@ -204,7 +204,7 @@ def _table_tolerance(text: str, design: CamDesign) -> float:
     from cam_ros.core.config.quantity import typed_quantity
 
     value = typed_quantity('--tolerance', text, design.config.length_unit,
-                           angular=design.config.oscillating)
+                           angular=design.config.angular)
     if value <= 0.0:
         raise InvalidParameter('--tolerance', text, 'must be > 0')
     return value

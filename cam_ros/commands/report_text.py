@@ -31,10 +31,12 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'config': str(config),
         'ok': report.ok,
         'warnings': list(report.warnings),
-        'follower': {'type': cfg.follower.type, **vars(design.follower)},
+        'follower': {'type': cfg.follower.type,
+                     **(vars(design.follower) if design.follower is not None else {})},
         'rotation': 'clockwise' if cfg.clockwise else 'counterclockwise',
         'cam_speed': cfg.cam_speed,
         'position_unit': unit,
+        'advance': design.program.advance,
         'limits': {'pressure_angle_deg': degrees(cfg.pressure_angle_limit),
                    'pressure_angle_return_deg': degrees(cfg.pressure_angle_return_limit),
                    'min_radius_of_curvature': cfg.min_radius_of_curvature},
@@ -46,10 +48,10 @@ def report_data(report: DesignReport, config: str) -> dict[str, Any]:
         'pressure_angle_rise_max_at_deg': cam_degrees(report.pressure_angle_rise[1]),
         'pressure_angle_return_max_deg': degrees(report.pressure_angle_return[0]),
         'pressure_angle_return_max_at_deg': cam_degrees(report.pressure_angle_return[1]),
-        'pressure_angle_ok': design.check.pressure_angle_ok,
+        'pressure_angle_ok': None if design.follower is None else design.check.pressure_angle_ok,
         'radius_of_curvature_min': report.radius_of_curvature_min,
         'radius_of_curvature_min_at_deg': cam_degrees(report.radius_of_curvature_min_at),
-        'radius_of_curvature_ok': design.check.radius_ok,
+        'radius_of_curvature_ok': None if design.follower is None else design.check.radius_ok,
         'undercut': report.undercut,
         'cusp_angles_deg': [cam_degrees(angle) for angle in report.cusp_angles],
         'min_base_radius': report.min_base_radius,
@@ -293,6 +295,33 @@ def _sizing_rows(report: DesignReport) -> list[tuple[str, str]]:
 
 def format_report(report: DesignReport, config: str) -> str:
     """Return the readable report `cam_ros report` prints."""
+    rows = _cam_rows(report) if report.design.follower is not None else _motion_only_rows(report)
+    width = max(len(label) for label, _ in rows) + 2
+    lines = [f'Cam design report: {config}', '']
+    lines += [f'{label:<{width}}{text}' for label, text in rows]
+    lines += ['', 'Segments (peaks at the cam speed)', _segment_table(report)]
+    lines += ['', 'Discontinuities', _continuity_table(report)]
+    if report.warnings:
+        lines += ['', 'Warnings'] + [f'  - {warning}' for warning in report.warnings]
+    lines += ['', 'Verdict: ' + ('meets its limits' if report.ok else 'VIOLATES its limits')]
+    return '\n'.join(lines)
+
+
+def _motion_only_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the lines of a motion-only design (follower.type none): the master and advance."""
+    cfg, program = report.design.config, report.design.program
+    unit, factor = cfg.file_position_unit
+    return [('Motion only', 'follower.type none: no cam, so no geometry, sizing or forces'),
+            ('Master', f'{number(cfg.cam_speed)} rad/s of cam angle '
+                       f'({number(cfg.cam_speed * 30.0 / math.pi)} rpm); positions in SI '
+                       f'({cfg.position_unit}; config: {cfg.length_unit})'),
+            ('Advance', f'{number(program.advance)} {cfg.position_unit} '
+                        f'({number(program.advance * factor)} {unit}) per cycle'
+                        if program.advance else 'none: the motion returns to its start')]
+
+
+def _cam_rows(report: DesignReport) -> list[tuple[str, str]]:
+    """Return the lines on the cam: follower, pressure angle, curvature, sizing, forces."""
     design = report.design
     cfg = design.config
     check = design.check
@@ -339,14 +368,4 @@ def format_report(report: DesignReport, config: str) -> str:
                              f'{number(estimate.estimate.mean_radius)} m from the cam centre at '
                              f'mid-rise, {estimate.estimate.size_index:.3g} times the rise'
                              + (': a large cam)' if estimate.estimate.big_cam else ')')))
-    rows += closure_rows(design)
-    rows += _dynamics_rows(report) + _vibration_rows(report)
-    width = max(len(label) for label, _ in rows) + 2
-    lines = [f'Cam design report: {config}', '']
-    lines += [f'{label:<{width}}{text}' for label, text in rows]
-    lines += ['', 'Segments (peaks at the cam speed)', _segment_table(report)]
-    lines += ['', 'Discontinuities', _continuity_table(report)]
-    if report.warnings:
-        lines += ['', 'Warnings'] + [f'  - {warning}' for warning in report.warnings]
-    lines += ['', 'Verdict: ' + ('meets its limits' if report.ok else 'VIOLATES its limits')]
-    return '\n'.join(lines)
+    return rows + closure_rows(design) + _dynamics_rows(report) + _vibration_rows(report)

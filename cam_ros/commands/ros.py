@@ -81,7 +81,8 @@ def request_once(node: Node, executor: SingleThreadedExecutor, service_type: Any
 
 def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
                    deadline: float) -> str:
-    """Ask the serving node for its follower type: 'm' (translating), 'rad' (oscillating)."""
+    """Ask the serving node its follower's position unit: 'm', or 'rad' (an oscillating arm or
+    a rotary slave, length_unit deg)."""
     from rcl_interfaces.srv import GetParameters
 
     node_name = node.resolve_service_name(service).rpartition('/')[0]
@@ -89,11 +90,12 @@ def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
         return 'm|rad'
     short = min(deadline, time.monotonic() + UNIT_QUERY_TIMEOUT_S)
     response, _ = request_once(node, executor, GetParameters, f'{node_name}/get_parameters',
-                               GetParameters.Request(names=['follower.type']), short,
-                               UNIT_QUERY_TIMEOUT_S)
-    if response is None or not response.values:
+                               GetParameters.Request(names=['follower.type', 'length_unit']),
+                               short, UNIT_QUERY_TIMEOUT_S)
+    if response is None or len(response.values) != 2:
         return 'm|rad'
-    return 'rad' if response.values[0].string_value.startswith('oscillating') else 'm'
+    kind, unit = (value.string_value for value in response.values)
+    return 'rad' if kind.startswith('oscillating') or unit == 'deg' else 'm'
 
 
 def _call_units(unit: str, dynamics: bool) -> dict[str, str]:

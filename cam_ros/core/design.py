@@ -14,7 +14,7 @@ from typing import Callable, cast
 import numpy as np
 import numpy.typing as npt
 
-from .config.schema import LENGTH_UNITS, CamConfig
+from .config.schema import CamConfig
 from .dynamics.flanks import form_closed_sides, Side, side_loads, SideLoads, side_values
 from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
@@ -58,11 +58,16 @@ class CamState:
 
 @dataclass(frozen=True, eq=False)
 class CamDesign:
-    """One validated cam: evaluate it anywhere, sample its profile, check it against limits."""
+    """One validated cam: evaluate it anywhere, sample its profile, check it against limits.
+
+    A motion-only design (follower.type none, `follower` None) has the motion and nothing of a
+    cam: its pressure angle and radius of curvature are nan, and geometry, check and contours
+    raise InvalidParameter naming follower.type.
+    """
 
     config: CamConfig
     program: MotionProgram
-    follower: Follower
+    follower: Follower | None
 
     @property
     def clockwise(self) -> bool:
@@ -82,10 +87,19 @@ class CamDesign:
         return compensated_program(self.program, self.config.cam_speed, train)
 
     def evaluate(self, angles: npt.ArrayLike) -> CamState:
-        """Evaluate follower motion and cam geometry at cam angles (rad, taken modulo 2 pi)."""
-        theta = np.mod(np.asarray(angles, dtype=float), TWO_PI)
-        motion = self.program.evaluate(theta)
+        """Evaluate follower motion and cam geometry at cam angles (rad, taken modulo 2 pi).
+
+        An advancing program (a rotary slave) is evaluated at the angles as given: each whole
+        turn adds its advance to the position.
+        """
+        given = np.asarray(angles, dtype=float)
+        theta = np.mod(given, TWO_PI)
+        motion = self.program.evaluate(given if self.program.advance else theta)
         timed = motion.at_speed(self.config.cam_speed)
+        if self.follower is None:
+            nan = np.full(theta.shape, math.nan)
+            return CamState(theta, timed.position, timed.velocity, timed.acceleration,
+                            timed.jerk, motion.ds, motion.d2s, motion.d3s, nan, nan.copy())
         cam = motion if self.surface is self.program else self.surface.evaluate(theta)
         pressure_angle, radius = contact_measures(self.follower, theta, cam.s, cam.ds,
                                                   cam.d2s, clockwise=self.clockwise)
@@ -103,7 +117,7 @@ class CamDesign:
     def dynamics(self) -> FollowerDynamics | None:
         """Return the follower-train model at the cam speed, None without dynamics."""
         config = self.config.dynamics
-        return None if config is None else FollowerDynamics(config, self.follower,
+        return None if config is None else FollowerDynamics(config, self.cam_follower,
                                                             self.config.cam_speed)
 
     def profile(self, count: int) -> CamState:
@@ -114,8 +128,16 @@ class CamDesign:
         """Return the cam's geometry (pitch curve, surface, ...) at count angles from 0."""
         theta = np.linspace(0.0, TWO_PI, count, endpoint=False)
         motion = self.surface.evaluate(theta)
-        return cam_geometry(self.follower, theta, motion.s, motion.ds, motion.d2s,
+        return cam_geometry(self.cam_follower, theta, motion.s, motion.ds, motion.d2s,
                             clockwise=self.clockwise)
+
+    @property
+    def cam_follower(self) -> Follower:
+        """Return the follower; raise InvalidParameter for a motion-only design (no cam)."""
+        if self.follower is None:
+            raise InvalidParameter('follower.type', 'none', 'a motion-only design has no cam '
+                                   '(no geometry, drawing or cutter path): give a follower type')
+        return self.follower
 
     @cached_property
     def check(self) -> GeometryCheck:
@@ -157,20 +179,23 @@ class CamDesign:
         """
         f = self.config.follower
         if f.closure == 'groove':
-            return groove_contours(cast(RollerFollower, self.follower), self.surface,
+            return groove_contours(cast(RollerFollower, self.cam_follower), self.surface,
                                    self.clockwise, f.groove_clearance)
-        first = cam_contour(self.follower, self.surface, self.clockwise)
+        first = cam_contour(self.cam_follower, self.surface, self.clockwise)
         if f.closure == 'force':
             return {'surface': first}
-        second = conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+        second = conjugate_follower(self.cam_follower, self.surface, f.conjugate_angle)
         return {'first': first, 'second': cam_contour(second, self.surface, self.clockwise)}
 
     @cached_property
     def closure(self) -> ClosureCheck | None:
         """Return the second side of a form-closed cam (closure.py), None for force closure."""
         f = self.config.follower
-        return closure_check(f.closure, self.follower, self.clockwise, self.check, self.surface,
-                             clearance=f.groove_clearance, conjugate_angle=f.conjugate_angle)
+        if f.closure == 'force':
+            return None
+        return closure_check(f.closure, self.cam_follower, self.clockwise, self.check,
+                             self.surface, clearance=f.groove_clearance,
+                             conjugate_angle=f.conjugate_angle)
 
     @cached_property
     def _sides(self) -> tuple[Side, Side] | None:
@@ -178,9 +203,9 @@ class CamDesign:
         f = self.config.follower
         if f.closure == 'force':
             return None
-        second = (conjugate_follower(self.follower, self.surface, f.conjugate_angle)
+        second = (conjugate_follower(self.cam_follower, self.surface, f.conjugate_angle)
                   if f.closure == 'conjugate' else None)
-        return form_closed_sides(self.follower, self.clockwise, second, f.groove_clearance)
+        return form_closed_sides(self.cam_follower, self.clockwise, second, f.groove_clearance)
 
     @cached_property
     def side_loads(self) -> SideLoads | None:
@@ -198,6 +223,8 @@ class CamDesign:
         limits and each side's stress the allowable.
         """
         dynamics, vibration, closure = self.dynamics_check, self.vibration_check, self.closure
+        if self.follower is None:  # motion only: nothing but the motion to judge
+            return self.config.allow_velocity_jumps or not self.velocity_jumps
         if closure is not None:
             loads = self.side_loads
             return (self.check.ok and closure.ok and (loads is None or loads.ok)
@@ -208,6 +235,8 @@ class CamDesign:
 
     def warnings(self) -> list[str]:
         """Say, once, what a designer must know: limits broken, undercut, discontinuities, jump."""
+        if self.follower is None:  # motion only: no cam to check
+            return self._motion_warnings()
         check, notes = self.check, []
         rise, ret = self.config.pressure_angle_limit, self.config.pressure_angle_return_limit
         sides = ((('', (check.max_pressure_angle, check.max_pressure_angle_at), rise),)
@@ -227,19 +256,7 @@ class CamDesign:
             where = np.degrees(check.undercut_angles)
             notes.append(f'the cam surface is undercut between {where.min():.1f} and '
                          f'{where.max():.1f} deg')
-        unit = self.config.position_unit
-        for jump in self.program.continuity_report():
-            if jump.order <= 2:
-                name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
-                notes.append(f'{name} jumps by {jump.jump:.6g} {unit}/rad^{jump.order} at '
-                             f'{math.degrees(jump.angle):.2f} deg'
-                             + _VELOCITY_JUMP_NOTE[jump.order == 1
-                                                   and not self.config.allow_velocity_jumps])
-        for segment in self.program.segment_summary():
-            if segment.overshoot:
-                notes.append(f'segment {segment.index} ({segment.task}, {segment.law}): '
-                             f'ds/dtheta overshoots the velocity of its moving end by '
-                             f'{segment.overshoot:.6g} {unit}/rad, as its boundary values force')
+        notes += self._motion_warnings()
         if self.closure is not None:
             return notes + self._closure_warnings()
         notes += self._vibration_warnings()
@@ -258,6 +275,23 @@ class CamDesign:
                          if math.isnan(dynamics.contact_stress_max) else
                          f'contact stress reaches {dynamics.contact_stress_max / 1e6:.6g} MPa at '
                          f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
+        return notes
+
+    def _motion_warnings(self) -> list[str]:
+        """Say where s or its first two derivatives jump and where a task forces an overshoot."""
+        unit, notes = self.config.position_unit, list[str]()
+        for jump in self.program.continuity_report():
+            if jump.order <= 2:
+                name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
+                notes.append(f'{name} jumps by {jump.jump:.6g} {unit}/rad^{jump.order} at '
+                             f'{math.degrees(jump.angle):.2f} deg'
+                             + _VELOCITY_JUMP_NOTE[jump.order == 1
+                                                   and not self.config.allow_velocity_jumps])
+        for segment in self.program.segment_summary():
+            if segment.overshoot:
+                notes.append(f'segment {segment.index} ({segment.task}, {segment.law}): '
+                             f'ds/dtheta overshoots the velocity of its moving end by '
+                             f'{segment.overshoot:.6g} {unit}/rad, as its boundary values force')
         return notes
 
     def _closure_warnings(self) -> list[str]:
@@ -308,6 +342,12 @@ class CamDesign:
         """Describe the design in one line for logs."""
         laws = ', '.join(f'{s.law.name} {math.degrees(s.start):g}-{math.degrees(s.end):g} deg'
                          for s in self.program.segments)
+        if self.follower is None:
+            unit, factor = self.config.file_position_unit
+            advance = (f', advancing {self.program.advance * factor:g} {unit} per cycle'
+                       if self.program.advance else '')
+            return (f'motion only (follower.type none) at {self.config.cam_speed:g} rad/s: '
+                    f'{laws}{advance}')
         check = self.check
         return (f'{self.config.follower.type} follower, '
                 f'{"clockwise" if self.clockwise else "counter-clockwise"} cam at '
@@ -340,9 +380,11 @@ def check_angles(angles: np.ndarray, max_batch: int) -> str | None:
     return None
 
 
-def build_follower(config: CamConfig) -> Follower:
-    """Build the configured follower; errors name the follower.* parameter."""
+def build_follower(config: CamConfig) -> Follower | None:
+    """Build the configured follower (None: motion only); errors name the follower.* parameter."""
     f = config.follower
+    if config.motion_only:
+        return None
     builders: dict[str, Callable[[], Follower]] = {
         'translating_roller': lambda: TranslatingRoller(f.base_radius, f.roller_radius, f.offset),
         'translating_flat': lambda: TranslatingFlat(f.base_radius),
@@ -365,6 +407,8 @@ def build_design(config: CamConfig) -> CamDesign:
     program = build_program(config)
     follower = build_follower(config)
     design = CamDesign(config, program, follower)
+    if follower is None:
+        return design
     try:
         design.geometry()  # the follower must be able to follow the motion everywhere
     except InvalidParameter as err:
@@ -379,7 +423,7 @@ def _check_second_cam(design: CamDesign) -> None:
     f = design.config.follower
     name, value = (('follower.conjugate_angle_deg', math.degrees(f.conjugate_angle))
                    if design.config.oscillating else ('follower.closure', f.closure))
-    problem = second_roller_problem(design.follower, design.surface, f.conjugate_angle)
+    problem = second_roller_problem(design.cam_follower, design.surface, f.conjugate_angle)
     if problem is not None:
         raise InvalidParameter(name, value, in_file_units(problem, design.config))
 
@@ -397,8 +441,7 @@ def _at_cam_angle(err: InvalidParameter, program: MotionProgram,
     index = program.segment_at(angle)
     value = err.value
     if match.group(1) == 's' and isinstance(value, float):
-        value = (math.degrees(value) if config.oscillating
-                 else value / LENGTH_UNITS[config.length_unit])
+        value = value * config.file_position_unit[1]
     return InvalidParameter(f'motion.laws[{index}] ({program.segments[index].law.name}): '
                             f'{match.group(1)} at {math.degrees(angle):.2f} deg', value,
                             in_file_units(err.rule, config))

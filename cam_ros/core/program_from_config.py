@@ -9,7 +9,7 @@ import math
 import re
 from typing import Any, Mapping
 
-from .config.schema import LENGTH_UNITS, CamConfig, MotionConfig
+from .config.schema import CamConfig, MotionConfig, UNITS
 from .errors import InvalidParameter, quote
 from .motion.laws import MotionLaw, make_law
 from .motion.program import MotionProgram
@@ -37,7 +37,7 @@ SI_QUANTITY = re.compile(
 
 def in_file_units(text: str, config: CamConfig) -> str:
     """Restate the lengths (m) and angles (rad) a core message quotes in the file's units."""
-    metre, unit = LENGTH_UNITS[config.length_unit], config.length_unit
+    metre, unit = UNITS[config.length_unit], config.length_unit
 
     def restate(match: re.Match) -> str:
         numbers = [math.pi if n == 'pi' else float(n) for n in re.findall(NUMBER, match.group(1))]
@@ -151,8 +151,10 @@ def build_program(config: CamConfig) -> MotionProgram:
                               motion.start_position[index], motion.end_position[index],
                               motion.begin[index], motion.finish[index],
                               motion.inflection[index]))
+    # A motion-only design may end elsewhere than it starts: it advances by that each cycle.
+    advance = motion.end_position[-1] - motion.start_position[0] if config.motion_only else 0.0
     try:
-        return MotionProgram(build_segments(specs))
+        return MotionProgram(build_segments(specs), advance=advance)
     except InvalidParameter as err:
         restated = _in_config_terms(err, written)
         raise InvalidParameter(restated.parameter, restated.value,

@@ -100,11 +100,21 @@ def quick_estimate(design: CamDesign) -> Optional[QuickEstimate]:
 
 
 def design_report(design: CamDesign) -> DesignReport:
-    """Compute the report of a design (its refined check plus the base-radius sizing)."""
+    """Compute the report of a design (its refined check plus the base-radius sizing).
+
+    A motion-only design reports its motion only: the cam's figures are nan, None or empty.
+    """
+    if design.follower is None:
+        return DesignReport(design, *(math.nan,) * 6, undercut=False, cusp_angles=(),
+                            min_base_radius=None, min_base_radius_governing='',
+                            max_base_radius=None, max_base_radius_governing='', face_range=None,
+                            segments=design.program.segment_summary(),
+                            continuity=design.program.continuity_report(), quick_estimate=None,
+                            warnings=tuple(design.warnings()))
     theta = np.linspace(0.0, 2.0 * math.pi, CHECK_SAMPLES, endpoint=False)
     motion = design.surface.evaluate(theta)  # the cam's own motion (polydyne: compensated)
     check = design.check
-    sizing = size_base_radius(design.follower, theta, motion.s, motion.ds, motion.d2s,
+    sizing = size_base_radius(design.cam_follower, theta, motion.s, motion.ds, motion.d2s,
                               clockwise=design.clockwise,
                               max_pressure_angle=design.config.pressure_angle_limit,
                               max_pressure_angle_return=design.config.pressure_angle_return_limit,

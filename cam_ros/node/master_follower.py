@@ -286,15 +286,10 @@ class MasterFollower:
             values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
 
     def _design_diagnostics(self, design: CamDesign, jump: float | None) -> DiagnosticStatus:
-        check, warnings = design.check, design.warnings()
+        warnings = design.warnings()
         return self._status(
             'design', DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,
-            '; '.join(warnings) or 'meets its limits',
-            max_pressure_angle_deg=f'{np.degrees(check.max_pressure_angle):.3f}',
-            pressure_angle_limit_deg=f'{np.degrees(design.config.pressure_angle_limit):.3f}',
-            min_radius_of_curvature_m=f'{check.min_radius:.6g}',
-            radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
-            undercut=check.undercut,
+            '; '.join(warnings) or 'meets its limits', **_cam_figures(design),
             jump_speed_rad_s='none (no dynamics or no jump)' if jump is None else f'{jump:.6g}')
 
     def _master_status(self) -> DiagnosticStatus:
@@ -321,6 +316,18 @@ class MasterFollower:
             return self._status('recording', DiagnosticStatus.ERROR, str(recorder.error))
         return self._status('recording', DiagnosticStatus.OK, f'recording to {recorder.path}',
                             messages=recorder.message_count)
+
+
+def _cam_figures(design: CamDesign) -> dict[str, Any]:
+    """Return the cam's checked figures for the diagnostics (none for a motion-only design)."""
+    if design.follower is None:
+        return {'motion_only': True}
+    check = design.check
+    return dict(max_pressure_angle_deg=f'{np.degrees(check.max_pressure_angle):.3f}',
+                pressure_angle_limit_deg=f'{np.degrees(design.config.pressure_angle_limit):.3f}',
+                min_radius_of_curvature_m=f'{check.min_radius:.6g}',
+                radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
+                undercut=check.undercut)
 
 
 def jump_speed(design: CamDesign) -> float | None:

@@ -251,6 +251,8 @@ class CamNode(Node):
         self._markers_pub.publish(self._markers(stamp))
 
     def _markers(self, stamp: Any) -> MarkerArray:
+        if self.design.follower is None:  # motion only: no cam to draw, clear an earlier one's
+            return MarkerArray(markers=[Marker(action=Marker.DELETEALL)])
         shape = self.design.geometry(self.design.config.sample_count)
         circle = self.design.follower.base_radius * np.stack(
             (np.cos(shape.theta), np.sin(shape.theta)))
@@ -274,9 +276,9 @@ class CamNode(Node):
     def _publish_state(self) -> None:
         now = self.get_clock().now()
         design = self.design
-        theta = math.fmod(design.config.cam_speed * (now.nanoseconds - self._start_ns) * 1e-9,
-                          2 * math.pi)
-        state = design.evaluate(np.array([theta]))
+        turned = design.config.cam_speed * (now.nanoseconds - self._start_ns) * 1e-9
+        theta = math.fmod(turned, 2 * math.pi)
+        state = design.evaluate(np.array([turned]))  # an advancing program counts the turns
         stamp = now.to_msg()
         sigma, offset, sign = joint_coordinates(design)
         joints = JointState(

@@ -119,8 +119,13 @@ def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point
                f'{table.tolerance * factor:.6g} {unit} (greedy; segment boundaries are '
                f'points)'
                if table.tolerance is not None else f'equidistant, every {360.0 / steps:.12g} deg')
-    periodic = ('the periodic end point 360 deg included' if end_point else
-                'periodic: the end point 360 deg repeats 0 deg and is left out')
+    advance = design.program.advance * factor
+    if advance:  # a rotary slave: each cycle starts where the last ended
+        periodic = (f'the slave advancing {advance:.12g} {unit} per cycle: the end point 360 deg '
+                    f'(the start plus the advance) ' + ('included' if end_point else 'left out'))
+    else:
+        periodic = ('the periodic end point 360 deg included' if end_point else
+                    'periodic: the end point 360 deg repeats 0 deg and is left out')
     method = ('cubic Hermite, slopes from the velocity column'
               if table.interpolation == 'cubic' else 'linear')
     notes = [

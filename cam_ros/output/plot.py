@@ -287,11 +287,14 @@ def design_figure(design: CamDesign, angle: float = 0.0, title: str = '') -> Fig
 
     if not math.isfinite(angle):
         raise InvalidParameter('angle', angle, 'must be a finite cam angle (rad)')
-    figure = Figure(figsize=FIGURE_SIZE_IN, layout='constrained')
-    columns = figure.add_gridspec(1, 3, width_ratios=(1.0, 1.0, 1.1))
+    motion_only = design.follower is None  # no cam: the four diagrams only
+    figure = Figure(figsize=(FIGURE_SIZE_IN[0] / 3, FIGURE_SIZE_IN[1]) if motion_only
+                    else FIGURE_SIZE_IN, layout='constrained')
+    columns = figure.add_gridspec(1, 1) if motion_only else figure.add_gridspec(
+        1, 3, width_ratios=(1.0, 1.0, 1.1))
     dynamic = design.dynamics is not None
     state = design.evaluate(_revolution(design))
-    for column, count in ((0, 4), (1, 5 if dynamic else 2)):
+    for column, count in ((0, 4),) if motion_only else ((0, 4), (1, 5 if dynamic else 2)):
         rows = columns[0, column].subgridspec(count, 1)
         first = figure.add_subplot(rows[0])
         axes = [first] + [figure.add_subplot(rows[row], sharex=first) for row in range(1, count)]
@@ -301,7 +304,8 @@ def design_figure(design: CamDesign, angle: float = 0.0, title: str = '') -> Fig
         else:
             _geometry_panels(design, axes[:2], state, angle)
             _dynamics_panels(design, axes[2:], state, angle)
-    _drawing(design, figure.add_subplot(columns[0, 2]), angle)
+    if not motion_only:
+        _drawing(design, figure.add_subplot(columns[0, 2]), angle)
     if title:
         figure.suptitle(title)
     return figure

@@ -20,6 +20,8 @@ CONFIG_DIR = REPO / 'config'
 DEFAULT_CONFIG = CONFIG_DIR / 'default.yaml'
 #: Every config file shipped with the package (others are being added: glob them).
 SHIPPED_CONFIGS = sorted(CONFIG_DIR.glob('*.yaml'))
+#: The shipped configs that shape a cam (not the motion-only ones, follower.type none).
+SHIPPED_CAMS = [path for path in SHIPPED_CONFIGS if 'type: none' not in path.read_text()]
 
 # Seed 000 (config/default.yaml), written out independently of the code under test.
 CM = 0.01

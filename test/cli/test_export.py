@@ -9,8 +9,8 @@ import xml.etree.ElementTree as ET
 import ezdxf
 import numpy as np
 import pytest
-from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, FOLLOWERS,
-                         run_cli, SHIPPED_CONFIGS)
+from cli_support import (assert_one_error_line, CONFIG_DIR, DEFAULT_CONFIG, follower_config,
+                         FOLLOWERS, run_cli, SHIPPED_CAMS)
 
 from cam_ros.cli import main
 from cam_ros.commands.common import load_design
@@ -125,7 +125,7 @@ def expected_curves(config, samples) -> list[np.ndarray]:
 
 
 @pytest.mark.parametrize('suffix', ['.csv', '.dxf', '.svg'])
-@pytest.mark.parametrize('config', SHIPPED_CONFIGS, ids=lambda path: path.name)
+@pytest.mark.parametrize('config', SHIPPED_CAMS, ids=lambda path: path.name)
 def test_every_shipped_config_exports(config, suffix, tmp_path, capsys):
     target = tmp_path / f'{config.stem}{suffix}'
     run = run_cli(capsys, 'export', config, '-o', target, '--samples', 400)
@@ -177,3 +177,12 @@ def test_progress_shows_on_a_terminal_only(tmp_path, monkeypatch):
     monkeypatch.setattr(sys, 'stderr', piped)
     assert main(['export', str(DEFAULT_CONFIG), '-o', str(tmp_path / 'cam.csv')]) == 0
     assert piped.getvalue() == ''
+
+
+@pytest.mark.parametrize('options', [
+    [], ['--machining', '--cutter-radius', '5', '--tolerance', '0.01']])
+def test_a_motion_only_design_has_no_cam_to_export(options, tmp_path, capsys):
+    target = tmp_path / 'knife.dxf'
+    run = run_cli(capsys, 'export', CONFIG_DIR / 'rotary_knife.yaml', '-o', target, *options)
+    assert_one_error_line(run, 'export', "follower.type = 'none'", 'motion-only design has no cam')
+    assert not target.exists()

@@ -130,10 +130,10 @@ def test_json_and_csv_exclude_each_other(capsys):
 def test_every_shipped_config_samples(config, capsys):
     run = run_cli(capsys, 'sample', config, '--step-deg', 5, '--csv')
     design = load_design(config)
-    assert run.code == (0 if design.check.ok else 1)
+    assert run.code == (0 if design.ok else 1)
     # A design violating its limits is still sampled; stderr says why, one warning per line.
     assert all(line.startswith('cam_ros sample: warning: ') for line in run.err.splitlines())
-    assert len(run.err.splitlines()) == (0 if design.check.ok else len(design.warnings()))
+    assert len(run.err.splitlines()) == (0 if design.ok else len(design.warnings()))
     rows = list(csv.reader(io.StringIO(run.out)))
     values = np.array(rows[1:], dtype=float)
     columns = len(FIELDS) + (3 if design.dynamics else 0)  # contact force, torque, stress

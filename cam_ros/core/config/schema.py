@@ -37,8 +37,11 @@ from .params_file import (MAX_ARRAY_LENGTH, MAX_STRING_LENGTH, NODE_NAMES, flatt
                           read_parameters_file)
 
 LENGTH_UNITS = {'m': 1.0, 'cm': 0.01, 'mm': 0.001, 'in': 0.0254}
+#: Every unit length_unit may name, in SI: the lengths, and deg for a rotary slave (rad).
+UNITS = {**LENGTH_UNITS, 'deg': math.pi / 180.0}
+#: 'none': a motion-only design (an electronic cam, no disk): no geometry, sizing or forces.
 FOLLOWER_TYPES = ('translating_roller', 'translating_flat', 'oscillating_roller',
-                  'oscillating_flat')
+                  'oscillating_flat', 'none')
 ROTATIONS = ('clockwise', 'counterclockwise')
 CLOSURES = ('force', 'groove', 'conjugate')
 COMPRESSIONS = ('zstd', 'lz4', 'none')
@@ -51,6 +54,12 @@ TASK_ARRAYS = tuple(f'motion.{side}_{name}' for name in ('velocity', 'accelerati
 MAX_LENGTH_M = 1e3
 #: Largest arm angle (deg) of an oscillating follower's motion.
 MAX_ARM_ANGLE_DEG = 180.0
+#: Largest slave position (deg) of a rotary slave: a thousand turns.
+MAX_ROTARY_DEG = 360e3
+#: Prefixes of the parameters that describe a cam, its follower train or their limits: a
+#: motion-only design (follower.type: none) leaves them at their defaults.
+CAM_ONLY = ('follower.', 'limits.pressure_angle', 'limits.min_radius', 'limits.contact',
+            'dynamics.', 'contact.')
 
 
 @dataclass(frozen=True)
@@ -86,15 +95,16 @@ def _p(name: str, type_: str, default: Any, description: str, **kw: Any) -> Para
 
 
 PARAMETERS: tuple[ParameterSpec, ...] = (
-    _p('length_unit', 'string', 'm', 'Unit of every length in this file',
-       choices=tuple(LENGTH_UNITS)),
+    _p('length_unit', 'string', 'm', 'Unit of every length in this file (deg: a rotary slave, '
+       'follower.type none only)', choices=tuple(UNITS)),
     _p('rotation', 'string', 'clockwise', 'Direction the cam turns, seen from +z',
        choices=ROTATIONS),
     _p('cam_speed', 'double', 2 * math.pi, 'Constant cam speed', unit='rad/s',
        minimum=1e-9, maximum=1e5),
-    _p('follower.type', 'string', REQUIRED, 'Follower kind', choices=FOLLOWER_TYPES),
-    _p('follower.base_radius', 'double', REQUIRED, 'Base circle radius of the cam surface',
-       unit='length_unit', minimum=0.0),
+    _p('follower.type', 'string', REQUIRED, 'Follower kind (none: motion only, no cam)',
+       choices=FOLLOWER_TYPES),
+    _p('follower.base_radius', 'double', REQUIRED, 'Base circle radius of the cam surface (not '
+       'with follower.type none)', unit='length_unit', minimum=0.0),
     _p('follower.roller_radius', 'double', 0.0, 'Roller radius (roller followers)',
        unit='length_unit', minimum=0.0),
     _p('follower.offset', 'double', 0.0, 'Offset e of a translating follower\'s line of travel '
@@ -300,17 +310,28 @@ class CamConfig:
         return self.follower.type.startswith('oscillating')
 
     @property
+    def motion_only(self) -> bool:
+        """True for follower.type none: a motion (an electronic cam) with no cam to shape."""
+        return self.follower.type == 'none'
+
+    @property
+    def angular(self) -> bool:
+        """True when positions are angles (rad): an oscillating arm or a rotary slave (deg)."""
+        return self.oscillating or self.length_unit == 'deg'
+
+    @property
     def position_unit(self) -> str:
-        """Return the SI unit of the follower position: 'm', or 'rad' for an arm."""
-        return 'rad' if self.oscillating else 'm'
+        """Return the SI unit of the follower position: 'm', or 'rad' for an angle."""
+        return 'rad' if self.angular else 'm'
 
     @property
     def file_position_unit(self) -> tuple[str, float]:
         """Return the unit the file writes follower positions in and its factor from SI.
 
-        The file's length_unit for translating followers, deg of arm angle for oscillating ones.
+        The file's length_unit for translating followers, deg of arm angle for oscillating ones
+        (and for a rotary slave, whose length_unit is deg).
         """
-        if self.oscillating:
+        if self.angular:
             return 'deg', 180.0 / math.pi
         return self.length_unit, 1.0 / LENGTH_UNITS[self.length_unit]
 
@@ -379,10 +400,12 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
             values[name] = check_parameter(name, value)
     for spec in PARAMETERS:
         if spec.name not in values:
-            if spec.default is REQUIRED:
+            if spec.default is REQUIRED and not (spec.name.startswith(CAM_ONLY)
+                                                 and values.get('follower.type') == 'none'):
                 raise InvalidParameter(spec.name, None, f'is required ({spec.rule})')
-            values[spec.name] = check_parameter(spec.name, spec.default)
-    metre = LENGTH_UNITS[values['length_unit']]
+            values[spec.name] = check_parameter(spec.name, _default(spec))
+    _check_motion_only(values)
+    metre = UNITS[values['length_unit']]
     oscillating = values['follower.type'].startswith('oscillating')
     _check_magnitudes(values, metre, oscillating)
     position_scale = math.radians(1.0) if oscillating else metre
@@ -448,6 +471,26 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     )
 
 
+def _default(spec: ParameterSpec) -> Any:
+    """Return a parameter's default; 0.0 for a required one a motion-only design leaves out."""
+    return 0.0 if spec.default is REQUIRED else spec.default
+
+
+def _check_motion_only(values: Mapping[str, Any]) -> None:
+    """Refuse cam parameters in a motion-only design, and deg as a length unit elsewhere."""
+    if values['follower.type'] != 'none':
+        if values['length_unit'] == 'deg':
+            raise InvalidParameter('length_unit', 'deg', 'a rotary slave in deg is a motion-only '
+                                   'design: needs follower.type none')
+        return
+    for spec in PARAMETERS:
+        if spec.name.startswith(CAM_ONLY) and spec.name != 'follower.type' \
+                and values[spec.name] != _default(spec):
+            raise InvalidParameter(spec.name, values[spec.name], 'follower.type none is a '
+                                   'motion-only design (no cam, no follower train): leave it '
+                                   'out')
+
+
 def _end_derivatives(values: Mapping[str, Any], side: str,
                      position_scale: float) -> tuple[tuple[float, float, float], ...]:
     """Return (ds, d2s, d3s) per rad at each segment's side from the per-deg arrays (nan kept)."""
@@ -491,6 +534,8 @@ def _closure(values: Mapping[str, Any], metre: float) -> dict[str, Any]:
 def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:
     """Bound every length and follower position (the specs cannot: their unit varies)."""
     length_bound = (MAX_LENGTH_M / metre, f'{MAX_LENGTH_M / metre:g} {values["length_unit"]}')
+    if values['length_unit'] == 'deg':
+        length_bound = (MAX_ROTARY_DEG, f'{MAX_ROTARY_DEG:g} deg')
     bounds = {'length_unit': length_bound,
               'length_unit|deg': ((MAX_ARM_ANGLE_DEG, f'{MAX_ARM_ANGLE_DEG:g} deg') if oscillating
                                   else length_bound)}

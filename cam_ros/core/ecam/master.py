@@ -7,6 +7,8 @@ the slave (follower) setpoint:
     theta = ((q - q0) / m) mod 2 pi            q0 = master.offset_deg, m = master.scaling
     y     = k s(theta) + y0                    y0 = slave.offset, k = slave.scaling
 
+(a program that advances, a rotary slave, adds k times its advance per whole cam turn).
+
 With the master speed omega = dq/dt and acceleration alpha = d2q/dt2, the chain rule gives the
 follower's velocity, acceleration and jerk exactly (s', s'', s''' per rad of cam angle):
 
@@ -30,7 +32,7 @@ from typing import Any, Mapping, NamedTuple, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..config.schema import CamConfig, LENGTH_UNITS
+from ..config.schema import CamConfig, UNITS
 from ..motion.program import MotionProgram, TWO_PI
 
 #: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.
@@ -85,8 +87,10 @@ class ElectronicCam:
                   alpha: npt.ArrayLike = 0.0) -> Setpoints:
         """Return the setpoints at master positions, speeds and accelerations (broadcast)."""
         mapping = self.mapping
-        theta = mapping.cam_angle(master)
-        values = self.program.evaluate(theta)
+        turns = mapping.turns(master)
+        theta = np.mod(turns, TWO_PI)
+        # An advancing program (a rotary slave) adds its advance per whole turn of the cam.
+        values = self.program.evaluate(turns if self.program.advance else theta)
         k, m = mapping.slave_scaling, mapping.master_scaling
         w = np.asarray(omega, dtype=float) / m  # cam speed and acceleration
         dw = np.asarray(alpha, dtype=float) / m
@@ -117,7 +121,7 @@ class MasterConfig:
     def from_config(cls, config: CamConfig) -> 'MasterConfig':
         """Read the (already checked) parameters of a CamConfig."""
         values: Mapping[str, Any] = config.parameters
-        slave_unit = math.radians(1.0) if config.oscillating else LENGTH_UNITS[config.length_unit]
+        slave_unit = math.radians(1.0) if config.oscillating else UNITS[config.length_unit]
         mapping = CamMapping(math.radians(values['master.offset_deg']), values['master.scaling'],
                              values['slave.offset'] * slave_unit, values['slave.scaling'])
         return cls(values['master.source'], values['master.topic'], values['master.joint'],
