@@ -79,8 +79,9 @@ class SwitchTracks:
         """
         table = self.table
         fresh = self._z is None
-        self._z = turns if fresh else min(max(self._z, turns), turns + table.hysteresis)
-        phase = self._z + table.lead_time * cam_speed
+        z = turns if self._z is None else min(max(self._z, turns), turns + table.hysteresis)
+        self._z = z
+        phase = z + table.lead_time * cam_speed
         before, self._phase = self._phase, phase
         now = word(table.inside(phase))
         words = [] if fresh else self._crossed(before, phase)
@@ -99,9 +100,10 @@ class SwitchTracks:
         count = np.maximum(np.floor((high - edges) / TWO_PI) - turn + 1.0, 0.0).astype(int)
         if not count.any():
             return []
-        track = np.repeat(np.repeat(np.arange(edges.shape[0]), 2), count.ravel())
-        offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count.ravel(), count.ravel())
-        at = np.repeat((edges + turn * TWO_PI).ravel(), count.ravel()) + TWO_PI * offset
+        per_edge = count.ravel()
+        track = np.repeat(np.repeat(np.arange(edges.shape[0]), 2), per_edge)
+        offset = np.arange(per_edge.sum()) - np.repeat(np.cumsum(per_edge) - per_edge, per_edge)
+        at = np.repeat((edges + turn * TWO_PI).ravel(), per_edge) + TWO_PI * offset
         fraction = (at - before[track]) / (after[track] - before[track])
         order = np.argsort(fraction, kind='stable')
         toggles = np.left_shift(1, track[order], dtype=np.int64)
