@@ -33,12 +33,12 @@ class SlavePath(Protocol):
 
 def smoothstep(u: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Return b(u) = 10 u^3 - 15 u^4 + 6 u^5 and its three derivatives (u clipped to [0, 1])."""
-    u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
-    inside = np.where(u < 1.0, 1.0, 0.0)  # past the end the blend is B itself: no derivatives
-    return (u ** 3 * (10.0 - 15.0 * u + 6.0 * u * u),
-            inside * 30.0 * u * u * (1.0 - u) ** 2,
-            inside * 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u),
-            inside * (60.0 - 360.0 * u + 360.0 * u * u))
+    t: np.ndarray = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
+    inside = np.where(t < 1.0, 1.0, 0.0)  # past the end the blend is B itself: no derivatives
+    return (t ** 3 * (10.0 - 15.0 * t + 6.0 * t * t),
+            inside * 30.0 * t * t * (1.0 - t) ** 2,
+            inside * 60.0 * t * (1.0 - t) * (1.0 - 2.0 * t),
+            inside * (60.0 - 360.0 * t + 360.0 * t * t))
 
 
 @dataclass(frozen=True)
