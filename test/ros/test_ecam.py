@@ -86,7 +86,8 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
     process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, '-p', 'command.interface:=velocity',
                                 '-p', 'command.trajectory_horizon:=0.05',
                                 '-p', 'command.trajectory_points:=5', '-p', 'master.timeout:=1.0',
-                                '-p', 'master.max_speed:=25.0')
+                                '-p', 'master.max_speed:=25.0', '-p',
+                                'master.engage_mode:=immediate')  # back on the cam at once
     design = ecam_design(DEFAULT)
     link = MasterLink(executor)
     link.connect(process)

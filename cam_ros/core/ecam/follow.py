@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Optional
+from typing import Any, Mapping, Optional
 
 import numpy as np
 
@@ -47,6 +47,12 @@ class EngageConfig:
     mode: str = RAMP
     distance: float = math.radians(30.0)
     periodic: bool = True
+
+    @classmethod
+    def from_parameters(cls, values: Mapping[str, Any]) -> 'EngageConfig':
+        """Read the (already checked) master.* parameters."""
+        return cls(values['master.engage_mode'], math.radians(values['master.engage_distance_deg']),
+                   values['master.periodic'])
 
 
 class Follower:
@@ -130,6 +136,14 @@ class Follower:
             point = chain_rule(angle, Held(origin).derivatives(track), 0.0, 0.0)
         self.held = float(point.position)
         return point
+
+    def ahead(self, state: MasterState, times: np.ndarray) -> Setpoints:
+        """Return the setpoints at times (s) from now if the master keeps its speed."""
+        master = state.track + state.omega * times
+        running = self.phase in (ENGAGING, ENGAGED)
+        path = self._path if running else Held(self.held if self.held is not None else 0.0)
+        return chain_rule(self.cam.mapping.cam_angle(master), path.derivatives(master),
+                          state.omega if running else 0.0, 0.0)
 
     def _origin(self) -> Optional[float]:
         """Return where the slave is held: the last command, else its reported position."""
