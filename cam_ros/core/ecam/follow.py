@@ -51,8 +51,8 @@ class EngageConfig:
     @classmethod
     def from_parameters(cls, values: Mapping[str, Any]) -> 'EngageConfig':
         """Read the (already checked) master.* parameters."""
-        return cls(values['master.engage_mode'], math.radians(values['master.engage_distance_deg']),
-                   values['master.periodic'])
+        distance = math.radians(values['master.engage_distance_deg'])
+        return cls(values['master.engage_mode'], distance, values['master.periodic'])
 
 
 class Follower:
