@@ -14,106 +14,34 @@ from typing import Any, Callable
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from rcl_interfaces.msg import SetParametersResult
 from rclpy.duration import Duration
-from rclpy.exceptions import InvalidHandle
-from rclpy.guard_condition import GuardCondition
-from rclpy.event_handler import SubscriptionEventCallbacks
-# rclpy has no public wait set; its executors and wait_for_message use this one.
 from rclpy.node import Node
-from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
-from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
+from std_msgs.msg import Float64MultiArray, UInt32
+from std_srvs.srv import SetBool
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.handover import Handover
+from cam_ros.core.ecam.follow import END_OF_PROFILE, ENGAGED, EngageConfig, Follower
 from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
                                       MasterTracker, OK, read_master, STALE, WAITING)
+from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.node.master_intake import MASTER_QOS, MasterIntake, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
-from cam_ros.rclpy_gaps import wait_set
-from cam_ros.recording.intake import TakenByIntake
 
-#: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
-#: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
-#: and a reliable one alike; a reliable subscription would never hear the former.
-MASTER_QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
 COMMAND_QOS = QoSProfile(depth=10)
+#: ~/switches and ~/state: a late subscriber gets the present state at once.
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
+#: The slave's state: best effort matches the broadcaster whatever its reliability.
+SLAVE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
 DIAGNOSTICS_PERIOD_S = 1.0
-#: Parameters that wire the node to the graph: fixed once the node runs.
-WIRING = ('master.source', 'master.topic', 'master.joint')
 FOLLOWER = 'follower'
 LEVELS = {WAITING: DiagnosticStatus.WARN, OK: DiagnosticStatus.OK,
           STALE: DiagnosticStatus.WARN, LOST: DiagnosticStatus.ERROR}
-
-
-def stamp_ns(stamp: Any) -> int:
-    """Return a builtin_interfaces/Time as integer nanoseconds."""
-    return stamp.sec * 1_000_000_000 + stamp.nanosec
-
-
-def refuse_rewiring(node: Node) -> None:
-    """Make the node refuse updates of the WIRING parameters (they need a restart)."""
-    def check(updates: list[Parameter]) -> SetParametersResult:
-        for param in updates:
-            if param.name in WIRING and param.value != node.get_parameter(param.name).value:
-                return SetParametersResult(successful=False, reason=(
-                    f'{param.name} = {param.value!r}: is fixed while the node runs (now '
-                    f'{node.get_parameter(param.name).value!r}); restart the node to change it'))
-        return SetParametersResult(successful=True)
-
-    node.add_on_set_parameters_callback(check)
-
-
-class MasterIntake:
-    """
-    Take master messages on a thread of their own, each as soon as it arrives.
-
-    The node's executor rebuilds a wait set of all its services, timers and subscriptions for
-    every message; this thread waits on the master subscription alone, so a busy node adds no
-    latency between master and command. Callbacks run on this thread.
-    """
-
-    def __init__(self, node: Node, topic: str, callback: Callable[[JointState], None]):
-        self._callback = callback
-        self._stop = threading.Event()
-        # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
-        # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
-        self.subscription = node.create_subscription(
-            JointState, topic, callback, MASTER_QOS, callback_group=TakenByIntake(),
-            event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))
-        self._wake = GuardCondition(None, None, context=node.context)
-        self._wait_set = wait_set(node.context, 1, 1)
-        self._node = node
-        self._thread = threading.Thread(target=self._run, name='master', daemon=True)
-        self._thread.start()
-
-    def _run(self) -> None:
-        subscription, wait_set = self.subscription, self._wait_set
-        try:
-            while not self._stop.is_set():
-                with subscription.handle, self._wake.handle:
-                    taken = subscription.handle.take_message(JointState, False)
-                    if taken is not None:
-                        self._callback(taken[0])
-                        continue
-                    wait_set.clear_entities()
-                    wait_set.add_subscription(subscription.handle)
-                    wait_set.add_guard_condition(self._wake.handle)
-                    wait_set.wait(-1)
-        except InvalidHandle:
-            pass  # the node went away under the thread
-
-    def stop(self) -> None:
-        """End the thread and destroy the subscription."""
-        self._stop.set()
-        self._wake.trigger()
-        self._thread.join()
-        self._node.destroy_subscription(self.subscription)
-        self._wake.destroy()
 
 
 class MasterFollower:
@@ -134,21 +62,32 @@ class MasterFollower:
         jump = jump_speed(design)
         self._design_status = self._design_diagnostics(design, jump)
         self._config = MasterConfig.from_config(design.config)
-        self._cam = ElectronicCam(design.program, self._config.mapping)
+        values = design.config.parameters
+        self._follower = Follower(ElectronicCam(design.program, self._config.mapping),
+                                  EngageConfig.from_parameters(values),
+                                  values['master.engage_on_start'])
+        self._tracks = SwitchTracks(switch_table(values))
         self._speed_limit = self._config.speed_limit(jump)
-        self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0])
-        self._handover: Handover | None = None
+        self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
+                                      int(values['master.velocity_window'] * 1e9))
         self._last_handover = 'none'
-        self._last_position = 0.0  # last commanded follower position
+        self._said: tuple[str, int | None] = ('', None)  # the last ~/state: status, switches
         self._overspeed_said = False
         self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
         self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
+        self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
+        self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
+        if values['slave.state_topic']:
+            node.create_subscription(JointState, values['slave.state_topic'], self._on_slave,
+                                     SLAVE_QOS)
+        node.create_service(SetBool, '~/engage', self._engage)
         self._intake = MasterIntake(node, self._config.topic, self._on_master)
         self._master_sub = self._intake.subscription
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
+        self._publish_state()
         node.get_logger().info(
             f'electronic cam: following {self._master_sub.topic_name} (joint '
             f'{self._config.joint}), {self._config.interface} commands on '
@@ -158,31 +97,34 @@ class MasterFollower:
         """Return the master input and the command topics, for the recorder."""
         return [TopicSpec(self._master_sub.topic_name, JointState, MASTER_QOS)] + [
             TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
-            for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub)]
+            for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub,
+                        self._switches_pub, self._state_pub)]
 
     def change(self, design: CamDesign) -> None:
-        """Take a new design: at once if the master is not moving, else at a common place."""
+        """Take a new design: offsets blended, other changes at a common place or at once."""
         jump, config = jump_speed(design), MasterConfig.from_config(design.config)
         status, limit = self._design_diagnostics(design, jump), config.speed_limit(jump)
+        values = design.config.parameters
         new = ElectronicCam(design.program, config.mapping)
+        table = switch_table(values)
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
             self._design_status, self._config = status, config
             self._tracker.timeout_ns = int(config.timeout * 1e9)
+            self._tracker.window_ns = int(values['master.velocity_window'] * 1e9)
             self._speed_limit, self._tracker.max_speed = limit, limit[0]
-            if self._tracker.status in (WAITING, LOST):
-                self._cam, self._handover = new, None
-                self._last_handover = 'applied at once (master not moving)'
-                return
-            self._handover = Handover(self._cam, new)
+            if self._follower.cam.mapping != config.mapping or not _same(table, self._tracks):
+                self._tracks = SwitchTracks(table)  # the next master sample says the states
             # Said under the lock: the master thread cannot apply it (and say so) before.
-            self._node.get_logger().info(f'design change pending: {self._handover.describe()}')
+            self._last_handover = self._follower.change(new, EngageConfig.from_parameters(values))
+            self._node.get_logger().info(f'design change {self._last_handover}')
+            self._publish_state()
 
     def stop(self) -> None:
         """Stop taking master messages (before the node is destroyed)."""
         self._intake.stop()
 
-    # Master messages ------------------------------------------------------------------------
+    # Master messages, slave state, ~/engage ----------------------------------------------
     def _on_master(self, message: JointState) -> None:
         with self._lock:
             try:
@@ -204,10 +146,17 @@ class MasterFollower:
                 f'dropped a master message: {bad.reason} ({tracker.dropped[bad.reason]} so far)',
                 throttle_duration_sec=5.0)
             return
-        if self._handover is not None and self._handover.due(state.track, state.step,
-                                                             state.omega):
-            self._hand_over(state)
-        self._publish(message, state)
+        handover = self._follower.handover
+        point = self._follower.command(state)
+        if point is not None:
+            self._publish(message, state, point)
+        if handover is not None and self._follower.handover is None:
+            self._said_applied(handover.old, handover.new, state)
+        mapping = self._follower.cam.mapping
+        for word in self._tracks.update(float(mapping.turns(state.track)),
+                                        state.omega / mapping.master_scaling):
+            self._switches_pub.publish(UInt32(data=word))
+        self._publish_state()
         if before != OK:
             self._node.get_logger().info(f'master {before} -> ok')
         if tracker.overspeed and not self._overspeed_said:
@@ -216,14 +165,11 @@ class MasterFollower:
                 f'({self._speed_limit[0]:.6g} rad/s)')
         self._overspeed_said = tracker.overspeed
 
-    def _publish(self, message: JointState, state: MasterState) -> None:
+    def _publish(self, message: JointState, state: MasterState, point: Any) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
-        cam = self._cam
-        point = cam.setpoints(state.track, state.omega, state.alpha)
         position, velocity = float(point.position), float(point.velocity)
         value = position if self._config.interface == 'position' else velocity
         self._commands_pub.publish(Float64MultiArray(data=[value]))
-        self._last_position = position
         joints = JointState(name=['cam', FOLLOWER], position=[state.position, position],
                             velocity=[state.omega, velocity])
         joints.header = message.header
@@ -231,20 +177,36 @@ class MasterFollower:
         if self._config.trajectory_horizon > 0.0:
             count = self._config.trajectory_points
             times = self._config.trajectory_horizon / count * np.arange(1, count + 1)
-            ahead = cam.ahead(state.track, state.omega, times)
+            ahead = self._follower.ahead(state, times)
             self._trajectory_pub.publish(_trajectory(times, ahead.position, ahead.velocity,
                                                      ahead.acceleration))
 
-    def _hand_over(self, state: MasterState) -> None:
-        """Let the pending design take over at this master sample; say what happened."""
-        assert self._handover is not None
-        old, new = self._handover.old, self._handover.new
-        step = float(new.setpoints(state.track).position - old.setpoints(state.track)
-                     .position)
+    def _said_applied(self, old: ElectronicCam, new: ElectronicCam, state: MasterState) -> None:
+        """Say where a pending design took over and how far the position command moved."""
+        step = float(new.setpoints(state.track).position - old.setpoints(state.track).position)
         angle = np.degrees(float(new.mapping.cam_angle(state.track)))
-        self._cam, self._handover = new, None
         self._last_handover = f'at cam angle {angle:.3f} deg, position command moved {step:.3g}'
         self._node.get_logger().info(f'design change applied {self._last_handover}')
+
+    def _on_slave(self, message: JointState) -> None:
+        """Note the driven axis's position (joint follower); where a first engagement starts."""
+        try:
+            position, _ = read_master(FOLLOWER, message.name, message.position,
+                                      message.velocity, message.effort)
+        except BadMaster as bad:
+            self._tracker.drop(f'slave state: {bad.reason}')
+            return
+        with self._lock:
+            self._follower.present = position
+
+    def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
+        with self._lock:
+            response.success, response.message = self._follower.engage(request.data)
+            if not request.data:
+                self._hold()
+            self._publish_state()
+        self._node.get_logger().info(f'~/engage {request.data}: {response.message}')
+        return response
 
     def _watch(self) -> None:
         with self._lock:
@@ -255,29 +217,56 @@ class MasterFollower:
         status = self._tracker.check(self._node.get_clock().now().nanoseconds)
         if status != LOST:
             return
+        self._follower.lose()
+        self._tracks.reset()
         self._node.get_logger().warning(
             f'master silent for {self._config.timeout:g} s: holding the follower at '
-            f'{self._last_position:.9g}')
-        hold = self._last_position if self._config.interface == 'position' else 0.0
-        self._commands_pub.publish(Float64MultiArray(data=[hold]))
+            f'{self._follower.held if self._follower.held is not None else "nothing"}')
+        self._hold()
+        self._publish_state()
+
+    def _hold(self) -> None:
+        """Command the held position at rest (nothing if nothing was ever commanded)."""
+        held = self._follower.held
+        if held is None:
+            return
+        self._commands_pub.publish(Float64MultiArray(
+            data=[held if self._config.interface == 'position' else 0.0]))
         last = self._tracker.last
         joints = JointState(name=['cam', FOLLOWER], velocity=[0.0, 0.0],
-                            position=[last.position if last else 0.0, self._last_position])
+                            position=[last.position if last else 0.0, held])
         joints.header.stamp = self._node.get_clock().now().to_msg()
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:
             self._trajectory_pub.publish(_trajectory(
-                np.array([self._config.trajectory_horizon]), *np.array([[self._last_position],
-                                                                        [0.0], [0.0]])))
+                np.array([self._config.trajectory_horizon]), *np.array([[held], [0.0], [0.0]])))
+
+    def _publish_state(self) -> None:
+        """Publish ~/state when the slave's status or the switch word changed."""
+        now = (self._follower.status, self._tracks.word)
+        if now != self._said:
+            self._said = now
+            self._state_pub.publish(self._engagement_status())
 
     # Diagnostics ----------------------------------------------------------------------------
     def _publish_diagnostics(self) -> None:
         array = DiagnosticArray()
         array.header.stamp = self._node.get_clock().now().to_msg()
         with self._lock:
-            master = self._master_status()
-        array.status = [self._design_status, master, self._recording_status()]
+            array.status = [self._design_status, self._master_status(),
+                            self._engagement_status(), self._recording_status()]
         self._diagnostics_pub.publish(array)
+
+    def _engagement_status(self) -> DiagnosticStatus:
+        follower, tracks = self._follower, self._tracks
+        level = DiagnosticStatus.OK if follower.phase in (ENGAGED, END_OF_PROFILE) or \
+            not follower.wanted else DiagnosticStatus.WARN
+        word = tracks.word or 0
+        return self._status('engagement', level, follower.status,
+                            engage_mode=follower.config.mode, periodic=follower.config.periodic,
+                            switches=word, **{f'switch {name}': 'on' if word >> index & 1
+                                              else 'off'
+                                              for index, name in enumerate(tracks.table.names)})
 
     def _status(self, what: str, level: bytes, message: str, **values: Any) -> DiagnosticStatus:
         return DiagnosticStatus(
@@ -300,7 +289,8 @@ class MasterFollower:
         message = tracker.status + (f', over {self._speed_limit[1]}' if tracker.overspeed
                                     else '')
         dropped = {f'dropped: {reason}': count for reason, count in tracker.dropped.items()}
-        pending = self._handover.describe() if self._handover else 'none'
+        handover = self._follower.handover
+        pending = handover.describe() if handover else 'none'
         return self._status('master', level, message, topic=self._master_sub.topic_name,
                             accepted=tracker.accepted, dropped=sum(tracker.dropped.values()),
                             **dropped, speed=last.omega if last else 0.0,
@@ -328,6 +318,14 @@ def _cam_figures(design: CamDesign) -> dict[str, Any]:
                 min_radius_of_curvature_m=f'{check.min_radius:.6g}',
                 radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
                 undercut=check.undercut)
+
+
+def _same(table: Any, tracks: SwitchTracks) -> bool:
+    """Say whether a switch table equals the one the tracks run."""
+    old = tracks.table
+    return (table.names, table.hysteresis) == (old.names, old.hysteresis) and all(
+        np.array_equal(a, b) for a, b in ((table.on, old.on), (table.off, old.off),
+                                          (table.lead_time, old.lead_time)))
 
 
 def jump_speed(design: CamDesign) -> float | None:

@@ -241,7 +241,12 @@ master message) instead of the clock, ~/state_extras stays silent, and
   ~/master            sensor_msgs/JointState, subscribed (name: master.topic): the master
   ~/commands          std_msgs/Float64MultiArray: the follower's position or velocity
   ~/joint_trajectory  trajectory_msgs/JointTrajectory: with command.trajectory_horizon > 0
-  /diagnostics        diagnostic_msgs/DiagnosticArray, about 1 Hz: design, master, recording
+  ~/engage            std_srvs/SetBool: engage the slave on the cam (false: hold)
+  ~/switches          std_msgs/UInt32, latched: cam switch tracks, bit i = track i
+  ~/state             diagnostic_msgs/DiagnosticStatus, latched: engaged, holding, end
+                      of profile..., and the switch tracks
+  /diagnostics        diagnostic_msgs/DiagnosticArray, about 1 Hz: design, master,
+                      engagement, recording
 
 The parameters come from the params files, in order (config/default.yaml if none is
 given), then from the -p overrides. They are checked exactly as `cam_ros report` checks

@@ -11,6 +11,8 @@ from cam_ros.node.master_follower import MasterFollower
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 MASTER = {'master.source': 'topic', 'master.timeout': 30.0}
+#: Another rise: the designs share the dwell at 0-90 deg, where the master stands.
+RISE = {'motion.start_position': [0.0, 0.0, 3.0, 3.0], 'motion.end_position': [0.0, 3.0, 3.0, 0.0]}
 #: How long the master thread may be held up while the node says 'pending'.
 RACE_S = 0.5
 
@@ -39,7 +41,7 @@ def test_pending_is_said_before_applied_even_when_the_master_applies_it_at_once(
         for k in range(2):
             follower._on_master(still(k))
         logger.info = log
-        follower.change(ecam_design(DEFAULT, **MASTER, **{'slave.offset': 0.0}))
+        follower.change(ecam_design(DEFAULT, **MASTER, **RISE))  # both dwell at 1 rad
         follower._on_master(still(4))
     finally:
         follower.stop()

@@ -52,6 +52,8 @@ TASK_ARRAYS = tuple(f'motion.{side}_{name}' for name in ('velocity', 'accelerati
 #: Largest length (m) a config may give: far beyond any cam, and small enough that products of
 #: lengths stay finite in double precision.
 MAX_LENGTH_M = 1e3
+#: Most cam switch tracks: one bit each of ~/switches (std_msgs/UInt32).
+MAX_SWITCH_TRACKS = 32
 #: Largest arm angle (deg) of an oscillating follower's motion.
 MAX_ARM_ANGLE_DEG = 180.0
 #: Largest slave position (deg) of a rotary slave: a thousand turns.
@@ -222,10 +224,32 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='s', minimum=1e-3, maximum=3600.0),
     _p('master.max_speed', 'double', 0.0, 'Master speed above which the node warns (0: no '
        'check)', unit='rad/s', minimum=0.0, maximum=1e6),
+    _p('master.engage_on_start', 'bool', True, 'Engage the slave on the cam at start-up (else '
+       'it waits for ~/engage)'),
+    _p('master.engage_mode', 'string', 'ramp', 'How the slave joins the cam (~/engage, start-up, '
+       'master return): at once, on a blend over engage_distance_deg, or at the next cycle '
+       'start', choices=('immediate', 'ramp', 'next_cycle')),
+    _p('master.engage_distance_deg', 'double', 30.0, 'Master travel of an engage ramp and of an '
+       'offset change\'s blend', unit='deg', minimum=1e-3, maximum=1e6),
+    _p('master.periodic', 'bool', True, 'Repeat the cam every cycle (false: a one-shot cam that '
+       'holds its end position one master cycle after it starts)'),
+    _p('master.velocity_window', 'double', 0.02, 'Master positions the speed estimate fits (0: '
+       'the last three)', unit='s', minimum=0.0, maximum=10.0),
+    _p('slave.state_topic', 'string', '', 'sensor_msgs/JointState of the driven axis (joint '
+       'follower): its position is where a first engagement starts ("": none)'),
     _p('slave.offset', 'double', 0.0, 'Added to the scaled follower position',
        unit='length_unit|deg'),
     _p('slave.scaling', 'double', 1.0, 'Factor on the follower position', minimum=-1e3,
        maximum=1e3),
+    _p('switches.names', 'string_array', [], 'Cam switch tracks: bit i of ~/switches is track i'),
+    _p('switches.on_deg', 'double_array', [], 'Cam angle where each track switches on',
+       unit='deg', minimum=0.0, maximum=360.0),
+    _p('switches.off_deg', 'double_array', [], 'Cam angle where each track switches off (below '
+       'on_deg: on through 0)', unit='deg', minimum=0.0, maximum=360.0),
+    _p('switches.lead_time', 'double_array', [], 'Dead time each track is switched ahead of its '
+       'angles, at the master speed (default 0)', unit='s', minimum=0.0, maximum=10.0),
+    _p('switches.hysteresis_deg', 'double', 0.1, 'Cam angle a track lags when the master '
+       'reverses, so that it never chatters at an edge', unit='deg', minimum=0.0, maximum=90.0),
     _p('command.interface', 'string', 'position', 'Command interface of the follower joint on '
        '~/commands', choices=('position', 'velocity')),
     _p('command.trajectory_horizon', 'double', 0.0, 'Look-ahead of ~/joint_trajectory (0: not '
@@ -446,6 +470,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     _check_parallel(values, ('motion.laws', *(name for name in TASK_ARRAYS if values[name])))
     _check_parallel(values, ('motion.via_segment', 'motion.via_deg', 'motion.via_position'))
     _check_parallel(values, ('motion.table_u', 'motion.table_y'))
+    _check_switches(values)
     return CamConfig(
         length_unit=values['length_unit'],
         clockwise=values['rotation'] == 'clockwise',
@@ -555,6 +580,24 @@ def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:
         if len(values[name]) != length:
             raise InvalidParameter(name, list(values[name]),
                                    f'must have {length} entries, one per entry of {names[0]}')
+
+
+def _check_switches(values: Mapping[str, Any]) -> None:
+    """Check the cam switch tracks: one entry each, at most 32, named once, on != off."""
+    names = values['switches.names']
+    _check_parallel(values, ('switches.names', 'switches.on_deg', 'switches.off_deg',
+                             *(('switches.lead_time',) if values['switches.lead_time'] else ())))
+    if len(names) > MAX_SWITCH_TRACKS:
+        raise InvalidParameter('switches.names', list(names),
+                               f'must have at most {MAX_SWITCH_TRACKS} tracks (one bit each)')
+    for index, name in enumerate(names):
+        if not name.strip() or name in names[:index]:
+            raise InvalidParameter(f'switches.names[{index}]', name,
+                                   'must be a name, given once')
+    for index, (on, off) in enumerate(zip(values['switches.on_deg'], values['switches.off_deg'])):
+        if math.isclose(math.fmod(on, 360.0), math.fmod(off, 360.0), abs_tol=1e-12):
+            raise InvalidParameter(f'switches.off_deg[{index}]', off,
+                                   f'must differ from switches.on_deg[{index}] ({on:g} deg)')
 
 
 def load_config(path: str | Path) -> CamConfig:

@@ -17,8 +17,9 @@ follower's velocity, acceleration and jerk exactly (s', s'', s''' per rad of cam
     j = k (s''' omega**3 / m**3 + 3 s'' omega alpha / m**2)   (the master's own jerk taken as 0)
 
 Master samples come with integer-nanosecond stamps. omega is the message's velocity when it has
-one; otherwise, like alpha, it is estimated from the last three positions by the quadratic
-through them (exact for a master at constant acceleration, any spacing of the stamps).
+one; otherwise, like alpha, it is estimated by the least-squares quadratic over the positions of
+the last master.velocity_window seconds, at least the last three (speed_estimate: exact for a
+master at constant acceleration, any spacing of the stamps; a window averages stamp jitter).
 Successive positions are unwrapped (the master moves less than half a turn between messages),
 so an encoder that wraps at 2 pi and a multi-turn position give the same estimates.
 """
@@ -34,6 +35,7 @@ import numpy.typing as npt
 
 from ..config.schema import CamConfig, UNITS
 from ..motion.program import MotionProgram, TWO_PI
+from .speed_estimate import fit_speed, QUADRATIC
 
 #: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.
 WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
@@ -70,6 +72,24 @@ class Setpoints(NamedTuple):
     jerk: np.ndarray
 
 
+class MasterDerivatives(NamedTuple):
+    """A slave path y(q) and its first three derivatives per rad of master position q."""
+
+    y: np.ndarray
+    dy: np.ndarray
+    d2y: np.ndarray
+    d3y: np.ndarray
+
+
+def chain_rule(cam_angle: npt.ArrayLike, path: MasterDerivatives, omega: npt.ArrayLike,
+               alpha: npt.ArrayLike) -> Setpoints:
+    """Return the setpoints of a path at master speed omega and acceleration alpha (jerk 0)."""
+    w, dw = np.asarray(omega, dtype=float), np.asarray(alpha, dtype=float)
+    return Setpoints(np.asarray(cam_angle, dtype=float), path.y, path.dy * w,
+                     path.d2y * w ** 2 + path.dy * dw,
+                     path.d3y * w ** 3 + 3.0 * path.d2y * w * dw)
+
+
 @dataclass(frozen=True, eq=False)
 class ElectronicCam:
     """A motion program driven by a master axis through a CamMapping."""
@@ -83,20 +103,20 @@ class ElectronicCam:
         k = self.mapping.slave_scaling
         return k * values.s + self.mapping.slave_offset, k * values.ds
 
+    def derivatives(self, master: npt.ArrayLike) -> MasterDerivatives:
+        """Return y and its derivatives per rad of master (not of cam) at master positions."""
+        mapping = self.mapping
+        turns = mapping.turns(master)
+        # An advancing program (a rotary slave) adds its advance per whole turn of the cam.
+        values = self.program.evaluate(turns if self.program.advance else np.mod(turns, TWO_PI))
+        k, m = mapping.slave_scaling, mapping.master_scaling
+        return MasterDerivatives(k * values.s + mapping.slave_offset, k * values.ds / m,
+                                 k * values.d2s / m ** 2, k * values.d3s / m ** 3)
+
     def setpoints(self, master: npt.ArrayLike, omega: npt.ArrayLike = 0.0,
                   alpha: npt.ArrayLike = 0.0) -> Setpoints:
         """Return the setpoints at master positions, speeds and accelerations (broadcast)."""
-        mapping = self.mapping
-        turns = mapping.turns(master)
-        theta = np.mod(turns, TWO_PI)
-        # An advancing program (a rotary slave) adds its advance per whole turn of the cam.
-        values = self.program.evaluate(turns if self.program.advance else theta)
-        k, m = mapping.slave_scaling, mapping.master_scaling
-        w = np.asarray(omega, dtype=float) / m  # cam speed and acceleration
-        dw = np.asarray(alpha, dtype=float) / m
-        return Setpoints(theta, k * values.s + mapping.slave_offset, k * values.ds * w,
-                         k * (values.d2s * w ** 2 + values.ds * dw),
-                         k * (values.d3s * w ** 3 + 3.0 * values.d2s * w * dw))
+        return chain_rule(self.mapping.cam_angle(master), self.derivatives(master), omega, alpha)
 
     def ahead(self, master: float, omega: float, times: npt.ArrayLike) -> Setpoints:
         """Return the setpoints at times (s) from now if the master keeps its speed omega."""
@@ -197,9 +217,10 @@ class MasterTracker:
     estimates afresh.
     """
 
-    def __init__(self, timeout_ns: int, max_speed: float = math.inf):
+    def __init__(self, timeout_ns: int, max_speed: float = math.inf, window_ns: int = 0):
         self.timeout_ns = int(timeout_ns)
         self.max_speed = float(max_speed)
+        self.window_ns = int(window_ns)  # of the speed estimate; 0: the last three samples
         self.status = WAITING
         self.dropped: Counter[str] = Counter()
         self.accepted = 0
@@ -213,7 +234,9 @@ class MasterTracker:
         """Return the state of a new sample; raise BadMaster(BACKWARDS) for an old stamp."""
         if self.last is not None and stamp_ns <= self.last.stamp_ns:
             raise BadMaster(BACKWARDS)
-        history = self._history[-2:] if self.status != LOST else []
+        history = self._history if self.status != LOST else []
+        keep = sum(stamp_ns - sample.stamp_ns < self.window_ns for sample in history)
+        history = history[-max(keep, QUADRATIC - 1):]
         turns = 0.0 if self.last is None else self.last.track - self.last.position
         state = estimate(history, stamp_ns, position, velocity, turns)
         self._history = [*history, state]
@@ -243,28 +266,25 @@ class MasterTracker:
 def estimate(history: Sequence[MasterState], stamp_ns: int, position: float,
              velocity: float | None, turns: float = 0.0) -> MasterState:
     """
-    Return the state at a new sample from up to two previous ones (oldest first).
+    Return the state at a new sample from the previous ones still in the window (oldest first).
 
-    With the steps d1, d2 over the intervals h1, h2 (newest first), the quadratic through the
-    three positions has alpha = 2 (d1/h1 - d2/h2) / (h1 + h2) and, at the newest sample,
-    omega = d1/h1 + alpha h1/2. A given velocity is taken as omega, and alpha = (omega -
-    omega_before)/h1. Two samples give the mean speed, no acceleration; one gives no speed.
+    omega and alpha come from fit_speed over the tracks of history and the new sample (three
+    samples: the quadratic through them; two: the mean speed; one: no speed). A given velocity is
+    taken as omega, and alpha = (omega - omega_before)/h1 with h1 the last stamp interval.
     Without history (the first sample, or the first after a loss) the track is position + turns,
     the whole turns the track had gained over the position before (0 for a multi-turn master).
     """
     if not history:
         return MasterState(stamp_ns, position, velocity or 0.0, 0.0, 0.0, position + turns)
     previous = history[-1]
-    h1 = (stamp_ns - previous.stamp_ns) * 1e-9
     d1 = math.remainder(position - previous.position, TWO_PI)
     # The representative of position (mod 2 pi) nearest the previous track plus the step: a
     # multi-turn master's track is its position exactly, a wrapping one's is that plus k turns.
     track = position + TWO_PI * round((previous.track + d1 - position) / TWO_PI)
     if velocity is not None:
+        h1 = (stamp_ns - previous.stamp_ns) * 1e-9
         return MasterState(stamp_ns, position, velocity, (velocity - previous.omega) / h1, d1,
                            track)
-    if len(history) < 2:
-        return MasterState(stamp_ns, position, d1 / h1, 0.0, d1, track)
-    h2 = (previous.stamp_ns - history[-2].stamp_ns) * 1e-9
-    alpha = 2.0 * (d1 / h1 - previous.step / h2) / (h1 + h2)
-    return MasterState(stamp_ns, position, d1 / h1 + alpha * h1 / 2.0, alpha, d1, track)
+    omega, alpha = fit_speed([*(sample.stamp_ns for sample in history), stamp_ns],
+                             [*(sample.track for sample in history), track])
+    return MasterState(stamp_ns, position, omega, alpha, d1, track)

@@ -1,0 +1,94 @@
+"""Engage modes, master loss, one-shot cams and offset blends of the Follower, without ROS."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.core.ecam.follow import (END_OF_PROFILE, ENGAGED, EngageConfig, ENGAGING, Follower,
+                                      HOLDING, WAITING_CYCLE)
+from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterState
+
+DEFAULT = Path(__file__).resolve().parents[2] / 'config' / 'default.yaml'
+CAM = ElectronicCam(build_design(parse_parameters(read_parameters_file(DEFAULT))).program,
+                    CamMapping(0.0, 1.0, 0.0, 1.0))
+OMEGA = 20 * math.pi  # 600 rpm
+DT = 0.001
+DISTANCE = math.radians(30.0)
+
+
+def drive(follower, q):
+    """Run master positions q at OMEGA; return the commanded positions and the phases."""
+    points, phases = [], []
+    for k, position in enumerate(q):
+        state = MasterState(k * 10 ** 6, position, OMEGA, 0.0, OMEGA * DT, position)
+        point = follower.command(state)
+        points.append(None if point is None else float(point.position))
+        phases.append(follower.phase)
+    return points, phases
+
+
+def test_ramp_joins_the_cam_from_the_held_position_and_is_exact_after():
+    follower = Follower(CAM, EngageConfig(distance=DISTANCE), engage=True)
+    follower.present = 0.012
+    q = 2.0 + OMEGA * DT * np.arange(60)
+    points, phases = drive(follower, q)
+    assert points[0] == 0.012 and phases[0] == ENGAGING
+    after = q - q[0] >= DISTANCE
+    assert set(np.array(phases)[after]) == {ENGAGED}
+    np.testing.assert_array_equal(np.array(points)[after], CAM.setpoints(q[after]).position)
+
+
+@pytest.mark.parametrize('mode', ['immediate', 'ramp', 'next_cycle'])
+def test_after_a_master_loss_the_same_mode_engages_from_the_held_command(mode):
+    follower = Follower(CAM, EngageConfig(mode='immediate', distance=DISTANCE), engage=True)
+    drive(follower, [1.0])  # on the cam's dwell at 0 deg
+    follower.change(CAM, EngageConfig(mode=mode, distance=DISTANCE))
+    follower.lose()
+    held = follower.held
+    q = 1.0 + 2 * math.pi - 0.3 + OMEGA * DT * np.arange(100)  # back 0.3 rad before angle 0
+    points, phases = drive(follower, q)
+    if mode == 'immediate':
+        assert points[0] == float(CAM.setpoints(q[0]).position)
+    else:
+        assert points[0] == held
+    if mode == 'next_cycle':  # held at the dwell's position: waits for angle 0
+        crossing = int(np.argmax(q >= 4 * math.pi))
+        assert set(phases[:crossing]) == {WAITING_CYCLE} and phases[crossing] == ENGAGED
+
+
+def test_next_cycle_refuses_a_held_position_off_the_cycle_start():
+    follower = Follower(CAM, EngageConfig(mode='next_cycle'), engage=False)
+    follower.present = 0.005
+    ok, message = follower.engage(True)
+    assert not ok and 'next_cycle cannot engage' in message and follower.phase == HOLDING
+
+
+def test_a_one_shot_cam_holds_its_end_and_runs_again_on_engage():
+    follower = Follower(CAM, EngageConfig(mode='immediate', periodic=False), engage=True)
+    q = 0.5 + OMEGA * DT * np.arange(150)  # 1.5 turns
+    points, phases = drive(follower, q)
+    end = int(np.argmax(q - q[0] >= 2 * math.pi))
+    assert set(phases[:end]) == {ENGAGED} and set(phases[end:]) == {END_OF_PROFILE}
+    assert points[end:] == [float(CAM.setpoints(q[0] + 2 * math.pi).position)] * (150 - end)
+    assert follower.engage(True)[0]
+    again, phases = drive(follower, q[-1] + OMEGA * DT * np.arange(1, 5))
+    assert phases == [ENGAGED] * 4
+
+
+def test_an_offset_change_blends_to_the_new_offset_over_the_distance():
+    follower = Follower(CAM, EngageConfig(mode='immediate', distance=DISTANCE), engage=True)
+    drive(follower, [1.0])
+    moved = ElectronicCam(CAM.program, replace(CAM.mapping, slave_offset=0.002))
+    assert follower.change(moved, EngageConfig(distance=DISTANCE)).startswith('blended')
+    q = 1.0 + OMEGA * DT * np.arange(1, 40)
+    points, phases = drive(follower, q)
+    u = np.minimum((q - 1.0) / DISTANCE, 1.0)
+    np.testing.assert_allclose(np.array(points) - CAM.setpoints(q).position,
+                               0.002 * (10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5), atol=1e-15)
+    after = q - 1.0 >= DISTANCE
+    np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)

@@ -1,0 +1,47 @@
+"""Cam switch tracks: edges at the expected master angle with lead time, both ways, standstill."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from cam_ros.core.ecam.switches import SwitchTable, SwitchTracks
+
+DEG = math.pi / 180
+#: glue: on 40-100 deg, lead 20 ms; mark: through 0 (350-10 deg); pulse: one degree wide.
+TABLE = SwitchTable(('glue', 'mark', 'pulse'), np.radians([40.0, 350.0, 200.0]),
+                    np.radians([100.0, 10.0, 201.0]), np.array([0.02, 0.0, 0.005]), 0.1 * DEG)
+
+
+def reference_on(track, angle_deg):
+    """Whether a track is on at a cam angle, written out here."""
+    on, off = math.degrees(TABLE.on[track]), math.degrees(TABLE.off[track])
+    angle = angle_deg % 360.0
+    return on <= angle < off if on < off else angle >= on or angle < off
+
+
+def edges_seen(turns, speeds):
+    """Feed cam turns (rad); return [(sample, words)] of every change."""
+    tracks = SwitchTracks(TABLE)
+    return [(k, tracks.update(t, w)) for k, (t, w) in enumerate(zip(turns, speeds))]
+
+
+@pytest.mark.parametrize('rpm', [60.0, 300.0, 600.0])
+@pytest.mark.parametrize('direction', [1.0, -1.0])
+def test_every_edge_comes_at_its_angle_less_the_lead_at_that_speed(rpm, direction):
+    speed = direction * rpm * 2 * math.pi / 60  # cam rad/s (master.scaling 1)
+    dt = 0.004
+    t = np.arange(int(1.2 * 60 / rpm / dt) + 2) * dt  # 1.2 turns at 250 Hz
+    turns = 0.3 + speed * t
+    changes = edges_seen(turns, np.full(t.size, speed))
+    lag = 0.0 if direction > 0 else 0.1  # the play: h behind in the negative direction
+    state = changes[0][1][-1]  # the first sample says its state
+    for k, words in changes[1:]:
+        state = words[-1] if words else state
+        for track in range(3):  # where the track reads: z + lead * speed, in deg
+            read = math.degrees(turns[k] + speed * TABLE.lead_time[track]) + lag
+            assert bool(state >> track & 1) == reference_on(track, read), (k, track)
+    # The one-degree pulse is seen on and off once per turn, even when between two samples.
+    pulses = sum(1 for _, words in changes for w in words if w & 4)
+    assert pulses == 1
