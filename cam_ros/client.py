@@ -33,7 +33,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-from cam_ros.core.config.schema import SPECS
+from cam_ros.core.config.parameters import SPECS
 from cam_ros.core.errors import similar_names
 
 #: Replies kept by the client's reader until taken; see the module docstring and the README.

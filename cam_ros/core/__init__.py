@@ -2,10 +2,12 @@
 
 Nothing here imports ROS; the node and the CLI are thin shells around these names. Subpackages by
 concern: motion (laws, programs), geometry (followers, profile, checks, sizing), dynamics (forces,
-contact), ecam (master tracking, handover, cam tables), config (schema, parameters files).
+contact), ecam (master tracking, handover, cam tables, switches), config (parameters, schema,
+files).
 """
-from .config.schema import (CamConfig, PARAMETERS, load_config, parse_parameters,
-                            read_parameters_file)
+from .config.parameters import PARAMETERS
+from .config.params_file import read_parameters_file
+from .config.schema import CamConfig, load_config, parse_parameters
 from .design import CamDesign, CamState, build_design, check_angles
 from .dynamics.follower import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError

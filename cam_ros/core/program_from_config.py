@@ -9,7 +9,8 @@ import math
 import re
 from typing import Any, Mapping
 
-from .config.schema import CamConfig, MotionConfig, UNITS
+from .config.parameters import UNITS
+from .config.schema import CamConfig, MotionConfig
 from .errors import InvalidParameter, quote
 from .motion.laws import MotionLaw, make_law
 from .motion.program import MotionProgram

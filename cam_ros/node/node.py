@@ -31,7 +31,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, check_angles,
                           parse_parameters)
-from cam_ros.core.config.schema import PARAMETERS, SPECS
+from cam_ros.core.config.parameters import PARAMETERS, SPECS
 from cam_ros.core.errors import one_line
 from cam_ros.node.master_follower import MasterFollower
 from cam_ros.node.joints import joint_coordinates

@@ -24,7 +24,8 @@ import rclpy
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core.config.schema import PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS, ParameterSpec
+from cam_ros.core.config.parameters import (PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS,
+                                            ParameterSpec)
 from cam_ros.core.config.params_file import parse_yaml, read_parameters_file
 from cam_ros.rclpy_gaps import RCLError
 

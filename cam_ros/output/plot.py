@@ -21,7 +21,7 @@ import numpy as np
 
 from cam_ros.core import (CamDesign, CamState, InvalidParameter, OscillatingFlat,
                           OscillatingRoller, TranslatingRoller, cam_geometry)
-from cam_ros.core.config.schema import LENGTH_UNITS
+from cam_ros.core.config.parameters import LENGTH_UNITS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -12,7 +12,8 @@ from typing import Any
 from rclpy.parameter import parameter_value_to_python
 import yaml
 
-from cam_ros.core.config.schema import flatten, SPECS
+from cam_ros.core.config.parameters import SPECS
+from cam_ros.core.config.params_file import flatten
 from cam_ros.recording.reader import Recording
 
 #: The params file the node was started with, verbatim.

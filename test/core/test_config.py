@@ -9,7 +9,9 @@ import pytest
 import yaml
 
 from cam_ros.core import InvalidParameter, build_design, load_config
-from cam_ros.core.config.schema import PARAMETERS, flatten, parse_parameters, read_parameters_file
+from cam_ros.core.config.parameters import PARAMETERS
+from cam_ros.core.config.params_file import flatten, read_parameters_file
+from cam_ros.core.config.schema import parse_parameters
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
 SHIPPED = sorted(CONFIG_DIR.glob('*.yaml'))

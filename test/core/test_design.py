@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from cam_ros.core import InvalidParameter, build_design, cam_geometry, check_angles
-from cam_ros.core.config.schema import parse_parameters, read_parameters_file
+from cam_ros.core.config.params_file import read_parameters_file
+from cam_ros.core.config.schema import parse_parameters
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
 

@@ -8,7 +8,7 @@ from conftest import CONFIG_DIR
 from rcl_interfaces.msg import ParameterType
 
 from cam_ros.core import InvalidParameter, read_parameters_file
-from cam_ros.core.config.schema import PARAMETERS
+from cam_ros.core.config.parameters import PARAMETERS
 from cam_ros.node.parameters import (declared_value, descriptor, parse_command_line,
                                      ParameterSources, reload_parameters)
 

@@ -9,7 +9,7 @@ import math
 import re
 
 from ..errors import InvalidParameter
-from .schema import LENGTH_UNITS
+from .parameters import LENGTH_UNITS
 
 #: Every length unit a typed value may carry, in metres.
 TYPED_LENGTHS = {**LENGTH_UNITS, 'um': 1e-6, 'µm': 1e-6}

@@ -33,7 +33,8 @@ from typing import Any, Mapping, NamedTuple, Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..config.schema import CamConfig, UNITS
+from ..config.parameters import UNITS
+from ..config.schema import CamConfig
 from ..motion.program import MotionProgram, TWO_PI
 from .speed_estimate import fit_speed, QUADRATIC
 
