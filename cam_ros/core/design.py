@@ -83,7 +83,7 @@ class CamDesign:
 
     def evaluate(self, angles: npt.ArrayLike) -> CamState:
         """Evaluate follower motion and cam geometry at cam angles (rad, taken modulo 2 pi)."""
-        theta = np.mod(np.asarray(angles, dtype=float), TWO_PI)
+        theta = cam_angles(angles)
         motion = self.program.evaluate(theta)
         timed = motion.at_speed(self.config.cam_speed)
         cam = motion if self.surface is self.program else self.surface.evaluate(theta)
@@ -324,6 +324,14 @@ def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
     """
     degrees = round(math.degrees(angle), digits) % 360.0
     return 360.0 if end and degrees == 0.0 else degrees
+
+
+def cam_angles(angles: npt.ArrayLike) -> np.ndarray:
+    """Return angles (rad) as a new float array taken modulo 2 pi (np.mod only when needed)."""
+    theta = np.asarray(angles, dtype=float)
+    if theta.size and 0.0 <= theta.min() and theta.max() < TWO_PI:  # NaN fails: np.mod
+        return theta + 0.0  # a copy, -0.0 made 0.0 as np.mod does
+    return np.mod(theta, TWO_PI)
 
 
 def check_angles(angles: np.ndarray, max_batch: int) -> str | None:
