@@ -11,7 +11,8 @@ from cam_motions import rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
-from cam_ros.core.geometry.cam_geometry import BLOCK, cam_geometry, contact_measures
+from cam_ros.core.arrays import BLOCK
+from cam_ros.core.geometry.cam_geometry import cam_geometry, contact_measures
 from cam_ros.core.geometry.check import check_geometry
 import numpy as np
 import pytest

@@ -28,12 +28,11 @@ from typing import Optional
 
 import numpy as np
 
+from ..arrays import BLOCK
 from ..errors import InvalidParameter
 from .followers import _check_follower, _first_bad, Follower
 
 Array = np.ndarray
-#: Samples per block of contact_measures: a block's temporaries fit in a core's L2 cache.
-BLOCK = 8192
 
 
 def _frozen(values: Array) -> Array:
