@@ -14,7 +14,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Sequence
 
-from benchmarks.core import core_figures, geometry_figures, loop_figure, report_figure
+from benchmarks.core import (core_figures, evaluate_figures, geometry_figures, loop_figure,
+                             memory_figure, report_figure)
 from benchmarks.dynamics import evaluate_figure, vibration_figure
 from benchmarks.ecam import ecam_figures, EcamSizes
 from benchmarks.recording import recording_figures, RecordingSizes
@@ -33,6 +34,8 @@ class Sizes:
     loop_count: int = 10 ** 5
     loop_repeats: int = 5
     geometry_count: int = 3600
+    evaluate_counts: tuple[int, ...] = (10 ** 3, 10 ** 4, 10 ** 5, 10 ** 6, 10 ** 7)
+    memory_count: int = 10 ** 7
     geometry_repeats: int = 9
     service: ServiceSizes = field(default_factory=ServiceSizes)
     recording: RecordingSizes = field(default_factory=RecordingSizes)
@@ -45,6 +48,8 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
     figures = [*core_figures(design, sizes.core_counts, sizes.core_repeats),
                loop_figure(design, sizes.loop_count, sizes.loop_repeats),
                *geometry_figures(design, sizes.geometry_count, sizes.geometry_repeats),
+               *evaluate_figures(design, sizes.evaluate_counts, sizes.core_repeats),
+               memory_figure(design, sizes.memory_count),
                report_figure(design, sizes.geometry_repeats),
                evaluate_figure(config, design, sizes.geometry_count, sizes.geometry_repeats),
                vibration_figure(config, design, sizes.geometry_repeats)]

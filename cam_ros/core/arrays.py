@@ -8,6 +8,8 @@ import numpy.typing as npt
 from .errors import InvalidParameter
 
 FloatArray = npt.NDArray[np.float64]
+#: Samples per block of a fused array computation: its temporaries stay in a core's L2 cache.
+BLOCK = 16384
 
 
 def finite_float(parameter: str, value: object) -> float:

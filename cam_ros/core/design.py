@@ -92,9 +92,9 @@ class CamDesign:
         An advancing program (a rotary slave) is evaluated at the angles as given: each whole
         turn adds its advance to the position.
         """
-        given = np.asarray(angles, dtype=float)
-        theta = np.mod(given, TWO_PI)
-        motion = self.program.evaluate(given if self.program.advance else theta)
+        theta = cam_angles(angles)
+        motion = self.program.evaluate(np.asarray(angles, dtype=float) if self.program.advance
+                                       else theta)
         timed = motion.at_speed(self.config.cam_speed)
         if self.follower is None:
             nan = np.full(theta.shape, math.nan)
@@ -364,6 +364,14 @@ def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
     """
     degrees = round(math.degrees(angle), digits) % 360.0
     return 360.0 if end and degrees == 0.0 else degrees
+
+
+def cam_angles(angles: npt.ArrayLike) -> np.ndarray:
+    """Return angles (rad) as a new float array taken modulo 2 pi (np.mod only when needed)."""
+    theta = np.asarray(angles, dtype=float)
+    if theta.size and 0.0 <= theta.min() and theta.max() < TWO_PI:  # NaN fails: np.mod
+        return theta + 0.0  # a copy, -0.0 made 0.0 as np.mod does
+    return np.mod(theta, TWO_PI)
 
 
 def check_angles(angles: np.ndarray, max_batch: int) -> str | None:

@@ -11,7 +11,8 @@ from cam_motions import rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
-from cam_ros.core.geometry.cam_geometry import cam_geometry
+from cam_ros.core.arrays import BLOCK
+from cam_ros.core.geometry.cam_geometry import cam_geometry, contact_measures
 from cam_ros.core.geometry.check import check_geometry
 import numpy as np
 import pytest
@@ -145,6 +146,20 @@ def test_concave_case_has_concave_parts_and_inflections():
 
 
 # ---------------------------------------------------------------- pressure angle
+
+def test_contact_measures_equal_the_geometry_in_blocks(follower_case, clockwise):
+    """The per-request path (closed forms for translating followers, blocks) is cam_geometry."""
+    follower, rise = follower_case
+    theta = np.linspace(0.0, 2 * np.pi, 2 * BLOCK + 5)
+    motion = rise_return(theta, rise)
+    angle, radius = contact_measures(follower, theta, *motion, clockwise=clockwise)
+    geometry = cam_geometry(follower, theta, *motion, clockwise=clockwise)
+    np.testing.assert_allclose(angle, geometry.pressure_angle, rtol=EXACT, atol=EXACT)
+    roller = follower.roller_radius if is_roller(follower) else 0.0
+    curvature, expected = 1.0 / (radius + roller), 1.0 / (geometry.surface_radius + roller)
+    np.testing.assert_allclose(curvature, expected, rtol=0.0,
+                               atol=EXACT * np.abs(expected).max())
+
 
 def test_pressure_angle_matches_direct_geometry(follower_case, clockwise):
     """Angle from the contact point's velocity to the normal found from finite differences."""

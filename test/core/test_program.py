@@ -6,6 +6,7 @@ import sys
 import numpy as np
 import pytest
 
+from cam_ros.core.arrays import BLOCK
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.laws import (ConstantAcceleration, ConstantVelocity, Cycloidal, Dwell,
                                       make_law, Polynomial4567, SimpleHarmonic, ViaPointLaw)
@@ -359,13 +360,17 @@ def python_lines(run) -> int:
     return lines
 
 
-def test_python_work_does_not_grow_with_the_number_of_angles():
-    """Vectorised: a million angles run exactly the Python code that a thousand run."""
+def test_python_work_grows_per_block_not_per_angle():
+    """Vectorised: Python runs once per block of BLOCK angles of a segment, never per angle."""
     cam = _seed_002_program()
     rng = np.random.default_rng(1)
     few, many = (rng.uniform(-10.0, 10.0, size) for size in (10 ** 3, 10 ** 6))
     cam.evaluate(few)  # first use imports SciPy (loaded lazily) and fills caches
-    assert python_lines(lambda: cam.evaluate(many)) == python_lines(lambda: cam.evaluate(few))
+    blocks = many.size // BLOCK + len(cam.segments)
+    assert python_lines(lambda: cam.evaluate(many)) <= blocks * python_lines(
+        lambda: cam.evaluate(few))
+    more = rng.uniform(-10.0, 10.0, 5 * few.size)  # still one block per segment
+    assert python_lines(lambda: cam.evaluate(more)) == python_lines(lambda: cam.evaluate(few))
     assert cam.evaluate(many).s.shape == many.shape
 
 
@@ -499,3 +504,15 @@ def test_breaks_are_the_joints_and_the_laws_breakpoints():
     assert jumps and jumps <= set(np.round(np.degrees(cam.breaks), 9))
     with pytest.raises(ValueError):
         cam.breaks[0] = 1.0
+
+
+@pytest.mark.parametrize('make', [_seed_002_program, lambda: _rise_return(Cycloidal())],
+                         ids=['via_point', 'cycloidal'])
+def test_evaluate_at_speed_is_evaluate_then_at_speed(make):
+    cam = make()
+    theta = np.random.default_rng(4).uniform(-10.0, 10.0, 2 * BLOCK + 3)  # blocks, any order
+    direct, two_steps = cam.evaluate_at_speed(theta, 7.5), cam.evaluate(theta).at_speed(7.5)
+    for name in ('position', 'velocity', 'acceleration', 'jerk'):
+        np.testing.assert_array_equal(getattr(direct, name), getattr(two_steps, name))
+    with pytest.raises(InvalidParameter):
+        cam.evaluate_at_speed(theta, math.inf)

@@ -1,7 +1,10 @@
 """The recorder's intake: its own thread takes the messages in batches, never the executor."""
 
+import time
+
 import rclpy
 from rclpy.qos import QoSProfile
+from rosbags.highlevel import AnyReader
 from sensor_msgs.msg import JointState
 
 from cam_ros.recording import open_recording, Recorder, TopicSpec
@@ -81,3 +84,21 @@ def test_stop_ends_the_thread_and_destroys_the_subscriptions(graph_nodes):
     assert [len(batch) for batch in batches] == [1]
     assert intake.subscriptions == () and list(node.subscriptions) == []
     assert wait_until(lambda: publisher.get_subscription_count() == 0)
+
+
+def test_a_paced_2_khz_stream_is_recorded_whole_and_opens_in_rosbags(graph_nodes, tmp_path):
+    """Issue 28: at 2 kHz for a second the recorder loses nothing; rosbags reads every message."""
+    node = graph_nodes('paced')
+    publisher = node.create_publisher(JointState, '/paced', STREAM_QOS)
+    path, count, period = tmp_path / 'paced.mcap', 2000, 1.0 / 2000
+    with Recorder(node, path, [TopicSpec('/paced', JointState, STREAM_QOS)]) as recorder:
+        assert wait_until(lambda: publisher.get_subscription_count() == 1)
+        start = time.perf_counter()
+        for index in range(count):
+            time.sleep(max(0.0, start + index * period - time.perf_counter()))
+            publisher.publish(JointState(position=[float(index)]))
+        assert wait_until(lambda: recorder.message_count == count)
+    with AnyReader([path]) as reader:
+        read = [reader.deserialize(data, connection.msgtype).position[0]
+                for connection, _, data in reader.messages()]
+    assert read == [float(index) for index in range(count)]

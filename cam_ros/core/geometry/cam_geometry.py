@@ -28,6 +28,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..arrays import BLOCK
 from ..errors import InvalidParameter
 from .followers import _check_follower, _first_bad, Follower
 
@@ -123,8 +124,14 @@ def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s:
                      clockwise: bool = False) -> tuple[Array, Array]:
     """Return (pressure angle, surface radius of curvature) only, without input checks.
 
-    The per-request path of a validated design: same formulas as cam_geometry, none of its
-    checks or cam-frame coordinates. Inputs must be equal-length 1-D float arrays.
+    The per-request path of a validated design: the measures of cam_geometry (in closed form
+    for translating followers), none of its checks or cam-frame coordinates, computed in blocks
+    of BLOCK samples so that temporaries stay in cache. Inputs: equal-length 1-D float arrays.
     """
-    raw = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
-    return raw.pressure_angle, raw.surface_radius
+    sigma = -1 if clockwise else 1
+    angle, radius = np.empty(s.shape), np.empty(s.shape)
+    for start in range(0, s.size, BLOCK):
+        part = slice(start, start + BLOCK)
+        follower._contact(theta[part], sigma, s[part], ds[part], d2s[part], angle[part],
+                          radius[part])
+    return angle, radius

@@ -107,6 +107,26 @@ class TranslatingRoller:
         return roller_profile(theta, sigma, centre, np.array((zero, ds)),
                               np.array((zero, d2s)), np.array((zero, one)), self.roller_radius)
 
+    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
+                 angle: Array, radius: Array) -> None:
+        # _geometry's measures in closed form: with p = d + s, q = ds - sigma e (the pitch
+        # tangent is (sigma p, q)), tan phi = q / p and
+        # rho_pitch = (p^2 + q^2)^1.5 / (p^2 + q^2 + q ds - p d2s).
+        p = s + self.prime_height
+        q = ds - sigma * self.offset
+        np.arctan2(q, p, out=angle)
+        speed2 = p * p
+        speed2 += q * q
+        np.multiply(q, ds, out=q)
+        q += speed2
+        np.multiply(p, d2s, out=p)
+        q -= p
+        np.sqrt(speed2, out=radius)
+        radius *= speed2
+        with np.errstate(divide='ignore'):  # an inflection of the pitch curve: infinite
+            radius /= q
+        radius -= self.roller_radius
+
 
 @dataclass(frozen=True)
 class TranslatingFlat:
@@ -136,6 +156,19 @@ class TranslatingFlat:
                                              np.array((zero, d2s)))
         return Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds,
                        np.array((zero, one)))
+
+    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
+                 angle: Array, radius: Array) -> None:
+        # _geometry's measures in closed form: phi = 0, rho = Rb + s + d2s.
+        angle.fill(0.0)
+        np.add(s, self.base_radius, out=radius)
+        radius += d2s
+
+
+def _measures_into(profile: Profile, angle: Array, radius: Array) -> None:
+    """Copy a profile's pressure angle and surface radius into angle and radius."""
+    np.copyto(angle, profile.pressure_angle)
+    np.copyto(radius, profile.surface_radius)
 
 
 def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:
@@ -202,6 +235,10 @@ class OscillatingRoller:
         return roller_profile(theta, sigma, centre, arm * ds * w, arm * (d2s * w - ds ** 2 * u),
                               w, self.roller_radius)
 
+    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
+                 angle: Array, radius: Array) -> None:
+        _measures_into(self._geometry(theta, sigma, s, ds, d2s), angle, radius)
+
 
 @dataclass(frozen=True)
 class OscillatingFlat:
@@ -260,6 +297,10 @@ class OscillatingFlat:
         angle = pressure_angle(sigma, along * w + f * u, w)
         _, foot_curvature = relative_motion(sigma, foot, f * ds * u, f * (d2s * u + ds ** 2 * w))
         return Profile(theta, sigma, foot, contact, angle, foot_curvature, radius, along, w)
+
+    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
+                 angle: Array, radius: Array) -> None:
+        _measures_into(self._geometry(theta, sigma, s, ds, d2s), angle, radius)
 
 
 Follower = Union[TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat]

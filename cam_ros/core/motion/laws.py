@@ -86,16 +86,21 @@ class SimpleHarmonic(InPlaceLaw):
     name: ClassVar[str] = 'simple_harmonic'
 
     def _derivatives_into(self, values: LawValues) -> None:
-        # y' = pi/2 sin(pi u), y'' = pi^2/2 cos(pi u), y''' = -pi^3/2 sin(pi u), in place.
-        y, sin, cos, y3 = values
-        np.multiply(y, math.pi, out=cos)
-        np.sin(cos, out=sin)
-        np.cos(cos, out=cos)
-        np.multiply(sin, -0.5 * math.pi ** 3, out=y3)
-        sin *= 0.5 * math.pi
-        np.subtract(1.0, cos, out=y)
-        y *= 0.5
-        cos *= 0.5 * math.pi ** 2
+        # One tan per angle instead of a sin and a cos, in place: with t = tan(pi u / 2) and
+        # w = 1 / (1 + t^2), sin(pi u) = 2 t w and cos(pi u) = (1 - t^2) w, so y = t^2 w,
+        # y' = pi t w, y'' = pi^2/2 (1 - t^2) w, y''' = -pi^2 y'.
+        u, y1, y2, y3 = values
+        np.multiply(u, 0.5 * math.pi, out=y1)
+        np.tan(y1, out=y1)
+        np.multiply(y1, y1, out=y2)
+        np.add(y2, 1.0, out=y3)
+        np.divide(1.0, y3, out=y3)
+        np.multiply(y2, y3, out=u)
+        np.subtract(y3, u, out=y2)
+        y2 *= 0.5 * math.pi ** 2
+        y1 *= y3
+        y1 *= math.pi
+        np.multiply(y1, -math.pi ** 2, out=y3)
 
 
 @dataclass(frozen=True)
@@ -105,16 +110,23 @@ class Cycloidal(InPlaceLaw):
     name: ClassVar[str] = 'cycloidal'
 
     def _derivatives_into(self, values: LawValues) -> None:
-        # y' = 1 - cos(2 pi u), y'' = 2 pi sin(2 pi u), y''' = 4 pi^2 cos(2 pi u), in place.
-        u, cos, sin, y3 = values
-        np.multiply(u, TWO_PI, out=sin)
-        np.cos(sin, out=cos)
-        np.sin(sin, out=sin)
-        np.divide(sin, TWO_PI, out=y3)
-        u -= y3
-        np.multiply(cos, TWO_PI ** 2, out=y3)
-        np.subtract(1.0, cos, out=cos)
-        sin *= TWO_PI
+        # One tan per angle instead of a sin and a cos, in place: with t = tan(pi u) and
+        # w = 1 / (1 + t^2), sin(2 pi u) = 2 t w and cos(2 pi u) = (1 - t^2) w, so
+        # y = u - t w / pi, y' = 2 t^2 w, y'' = 4 pi t w, y''' = 4 pi^2 (1 - t^2) w.
+        u, y1, y2, y3 = values
+        np.multiply(u, math.pi, out=y2)
+        np.tan(y2, out=y2)
+        np.multiply(y2, y2, out=y1)
+        np.add(y1, 1.0, out=y3)
+        np.divide(1.0, y3, out=y3)
+        y2 *= y3
+        y1 *= y3
+        y3 -= y1
+        y3 *= TWO_PI ** 2
+        y1 *= 2.0
+        y2 *= 1.0 / math.pi
+        u -= y2
+        y2 *= TWO_PI ** 2
 
 
 @dataclass(frozen=True)

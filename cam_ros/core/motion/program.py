@@ -24,7 +24,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..arrays import checked_array, finite_float, float_array, FloatArray
+from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray
 from ._law_base import LawValues, workspace
 from ._polynomial import BoundaryPolynomial
 from ..errors import InvalidParameter
@@ -149,6 +149,14 @@ def _read_only(array: npt.ArrayLike) -> FloatArray:
     return result
 
 
+def _speed(omega: float) -> float:
+    """Return a cam speed omega (rad/s) as a float, or raise unless it is finite."""
+    speed = float(omega)
+    if not math.isfinite(speed):
+        raise InvalidParameter('omega', omega, 'must be a finite cam speed in rad/s')
+    return speed
+
+
 @dataclass(frozen=True, eq=False)
 class TimeValues:
     """Follower motion in time at constant cam speed: SI units (m or rad, per s, s^2, s^3)."""
@@ -175,9 +183,7 @@ class ProgramValues:
 
     def at_speed(self, omega: float) -> TimeValues:
         """Return position, velocity, acceleration and jerk at constant cam speed omega (rad/s)."""
-        speed = float(omega)
-        if not math.isfinite(speed):
-            raise InvalidParameter('omega', omega, 'must be a finite cam speed in rad/s')
+        speed = _speed(omega)
         return TimeValues(self.s, _read_only(speed * self.ds), _read_only(speed ** 2 * self.d2s),
                           _read_only(speed ** 3 * self.d3s))
 
@@ -292,6 +298,17 @@ class MotionProgram:
 
     def evaluate(self, theta: npt.ArrayLike) -> ProgramValues:
         """Return s and its derivatives per rad at cam angles theta (rad, any real, mod 2 pi)."""
+        return ProgramValues(*self._values(theta, None))
+
+    def evaluate_at_speed(self, theta: npt.ArrayLike, omega: float) -> TimeValues:
+        """Return evaluate(theta).at_speed(omega) without keeping the per-rad derivatives."""
+        speed = _speed(omega)
+        return TimeValues(*(_read_only(value) for value in self._values(
+            theta, (speed, speed ** 2, speed ** 3))))
+
+    def _values(self, theta: npt.ArrayLike,
+                scales: tuple[float, float, float] | None) -> LawValues:
+        """Return s, ds, d2s, d3s at theta, the derivatives times scales (if given)."""
         local = self._local_angles(theta)
         turns = None
         if self.advance:
@@ -301,14 +318,17 @@ class MotionProgram:
         grouped = flat if order is None else flat[order]
         values = LawValues(*(np.empty(flat.size) for _ in range(4)))
         for number, (low, high) in enumerate(zip(bounds[:-1], bounds[1:])):
-            if high > low:
-                self._evaluate_segment(number, grouped[low:high],
-                                       LawValues(*(value[low:high] for value in values)))
+            for first in range(low, high, BLOCK):  # blocks: the law's work stays in cache
+                end = min(first + BLOCK, high)
+                part = LawValues(*(value[first:end] for value in values))
+                self._evaluate_segment(number, grouped[first:end], part)
+                for value, scale in zip(part[1:], scales or ()):
+                    value *= scale
         if order is not None:
             values = LawValues(*(_ungrouped(value, order) for value in values))
         if turns is not None:
             values.y[...] += self.advance * turns.reshape(-1)
-        return ProgramValues(*(value.reshape(local.shape) for value in values))
+        return LawValues(*(value.reshape(local.shape) for value in values))
 
     def _end_values(self, number: int) -> LawValues:
         """Return s and its derivatives where segment number ends, as the next one sees them.
