@@ -211,6 +211,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                        help='write the periodic end point 360 deg (default: yes)')
     table.add_argument('--derivatives', action='store_true',
                        help='csv: add velocity and acceleration columns')
+    parser.add_argument('--switches', action='store_true',
+                        help='write the cam switch tracks (switches.*) for a PLC\'s cam '
+                             'controller instead: --format csv (default) or st (PLCopen '
+                             'MC_CAMSWITCH_TR / MC_TRACK_TR field names)')
 
 
 def _ros_commands(sub: argparse._SubParsersAction) -> None:
