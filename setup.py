@@ -14,6 +14,7 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE}']),
         (f'share/{PACKAGE}', ['package.xml']),
         (f'share/{PACKAGE}/config', sorted(glob('config/*.yaml') + glob('config/*.xml'))),
+        (f'share/{PACKAGE}/config/ros2_control', sorted(glob('config/ros2_control/*'))),
     ],
     python_requires='>=3.11',
     install_requires=['setuptools'],

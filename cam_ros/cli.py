@@ -211,6 +211,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                        help='write the periodic end point 360 deg (default: yes)')
     table.add_argument('--derivatives', action='store_true',
                        help='csv: add velocity and acceleration columns')
+    parser.add_argument('--switches', action='store_true',
+                        help='write the cam switch tracks (switches.*) for a PLC\'s cam '
+                             'controller instead: --format csv (default) or st (PLCopen '
+                             'MC_CAMSWITCH_TR / MC_TRACK_TR field names)')
 
 
 def _ros_commands(sub: argparse._SubParsersAction) -> None:
@@ -298,12 +302,17 @@ def _recording_commands(sub: argparse._SubParsersAction) -> None:
 
     parser = _command(sub, 'replay', 'cam_ros.commands.recording:replay', 'Replay a recording',
                       'Publish the recorded messages with their recorded QoS and timing.',
-                      exit_codes(None, STOPS_CLEANLY))
+                      exit_codes('--apply-parameters: a node did not answer or rejected a '
+                                 'recorded change', STOPS_CLEANLY))
     parser.add_argument('path', metavar='FILE', help='MCAP recording')
     parser.add_argument('--rate', type=POSITIVE, default=1.0, metavar='R',
                         help='speed factor (default 1: recorded timing)')
     parser.add_argument('--topics', nargs='+', default=None, metavar='TOPIC',
                         help='replay only these topics (default all)')
+    parser.add_argument('--apply-parameters', action='store_true',
+                        help='set the recorded parameter changes (/parameter_events) on their '
+                             'nodes, one atomic set per event, before the first message logged '
+                             'at or after it (not recording.*; not with --loop)')
     parser.add_argument('--loop', action='store_true', help='repeat until Ctrl-C')
     parser.add_argument('--wait', type=NON_NEGATIVE, default=3.0, metavar='S',
                         help='seconds to wait for every topic to have a subscriber before '

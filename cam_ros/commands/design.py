@@ -112,9 +112,20 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
            file_format: str | None = None, interpolation: str | None = None,
            end_point: bool | None = None, derivatives: bool = False, machining: bool = False,
            cutter_radius: str | None = None, compensation: str | None = None,
-           arcs: bool = False) -> int:
-    """Write the cam surface (mm), a cutter path (--machining) or a cam table (--cam-table)."""
+           arcs: bool = False, switches: bool = False) -> int:
+    """Write the cam surface (mm), a cutter path, a cam table or the cam switch tracks."""
     from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
+
+    if switches:
+        others = {'--cam-table': cam_table or None, '--machining': machining or None,
+                  '--samples': samples, '--tolerance': tolerance, '--points': points,
+                  '--interpolation': interpolation, '--end-point': end_point,
+                  '--derivatives': derivatives or None, '--cutter-radius': cutter_radius,
+                  '--compensation': compensation, '--arcs': arcs or None}
+        for option, value in others.items():
+            if value is not None:
+                raise InvalidParameter(option, value, 'cannot go with --switches')
+        return export_switches(config, output, file_format or 'csv')
 
     table_options = {'--points': points, '--interpolation': interpolation,
                      '--end-point': end_point, '--derivatives': derivatives or None}
@@ -159,6 +170,24 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         count = export_surface(design, target, EXPORT_SAMPLES if samples is None else samples)
     print(f'wrote {target}: closed cam surface of {count} points (mm)')
     return verdict('export', design)
+
+
+def export_switches(config: str, output: str, table_format: str) -> int:
+    """Write the cam switch tracks (switches.*) of a config for a PLC's cam controller."""
+    from cam_ros.core import load_config
+    from cam_ros.output.switch_table import SWITCH_FORMATS, switch_table_text
+
+    if table_format not in SWITCH_FORMATS:
+        raise InvalidParameter('--format', table_format, 'the switch tracks take one of '
+                               + ', '.join(SWITCH_FORMATS))
+    target = Path(output)
+    parameters = load_config(config).parameters
+    text = switch_table_text(parameters, table_format, Path(config).name)
+    with writing('export', f'writing {target}', target):
+        target.write_text(text, encoding='utf-8')
+    print(f'wrote {target}: {len(parameters["switches.names"])} cam switch tracks '
+          f'({table_format})')
+    return EXIT_OK
 
 
 def export_cam_table(config: str, output: str, points: int | None, tolerance: str | None,

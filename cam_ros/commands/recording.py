@@ -3,12 +3,17 @@ from __future__ import annotations
 
 import signal
 import threading
+import time
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence, TYPE_CHECKING
 
-from cam_ros.commands.common import dump_json, end_progress, progress, writing
-from cam_ros.exit_codes import EXIT_OK
-from cam_ros.commands.ros import ros_node
+from cam_ros.commands.common import dump_json, end_progress, progress, say, writing
+from cam_ros.core import InvalidParameter
+from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
+from cam_ros.commands.ros import DEFAULT_TIMEOUT_S, request_once, ros_node
+
+if TYPE_CHECKING:
+    from cam_ros.recording.parameter_replay import ParameterEvent
 
 #: Seconds replay waits by default for every topic to have a subscriber (fresh ones need time
 #: to discover the replaying node).
@@ -24,12 +29,24 @@ def info(path: str, json_output: bool = False) -> int:
     return EXIT_OK
 
 
-def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
-           loop: bool = False, wait: float = DEFAULT_WAIT_S) -> int:
-    """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
-    from cam_ros.recording import open_recording, replay as replay_recording
+class _Rejected(Exception):
+    """A node did not take a recorded parameter change (the message says why)."""
 
+
+def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
+           loop: bool = False, wait: float = DEFAULT_WAIT_S,
+           apply_parameters: bool = False) -> int:
+    """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
+    from cam_ros.recording import open_recording, parameter_changes, replay as replay_recording
+    from cam_ros.recording.parameter_replay import parameter_events, ParameterSchedule
+    from cam_ros.recording.parameters import PARAMETER_EVENTS_TOPIC
+
+    if apply_parameters and loop:
+        raise InvalidParameter('--apply-parameters', True, 'cannot go with --loop: the '
+                               'changes are made once, in recorded order')
     recording = open_recording(path)
+    if apply_parameters and topics is None:  # the node says its own changes
+        topics = [name for name in recording.topics if name != PARAMETER_EVENTS_TOPIC]
     total = sum(recording.topics[name].count for name in topics or recording.topics
                 if name in recording.topics)
     published = 0
@@ -40,17 +57,44 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
         progress('replay', f'{published} of {total} messages' + (' (looping)' if loop else ''))
 
     stop = threading.Event()
-    with ros_node('replay') as (node, _):
+    with ros_node('replay') as (node, executor):
+        schedule = None
+        if apply_parameters:
+            def apply(event: ParameterEvent) -> None:
+                _set_atomically(node, executor, event)
+            schedule = ParameterSchedule(parameter_events(parameter_changes(recording)), apply)
         # Ctrl-C sets stop: a KeyboardInterrupt inside publish() could leave its handle held.
         previous = signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
         try:
             count = replay_recording(recording, node, rate=rate, topics=topics, loop=loop,
-                                     on_message=show, wait_for_subscribers=wait, stop=stop)
+                                     on_message=show, wait_for_subscribers=wait, stop=stop,
+                                     before_message=schedule)
+        except _Rejected as err:
+            end_progress()
+            say('replay', str(err))
+            return EXIT_FAILED
         finally:
             signal.signal(signal.SIGINT, previous)
             end_progress()
     print(f'published {count} messages from {path}')
     return EXIT_OK
+
+
+def _set_atomically(node: Any, executor: Any, event: ParameterEvent) -> None:
+    """Set one recorded event's changes on its node in one call; raise _Rejected if not."""
+    from rcl_interfaces.srv import SetParametersAtomically
+
+    request = SetParametersAtomically.Request(parameters=event.messages())
+    deadline = time.monotonic() + DEFAULT_TIMEOUT_S
+    response, problem = request_once(node, executor, SetParametersAtomically,
+                                     f'{event.node}/set_parameters_atomically', request,
+                                     deadline, DEFAULT_TIMEOUT_S)
+    names = ', '.join(change.name for change in event.changes)
+    if response is None:
+        raise _Rejected(f'recorded change of {names} at log time {event.time_ns} ns: {problem}')
+    if not response.result.successful:
+        raise _Rejected(f'{event.node} rejected the recorded change of {names} at log time '
+                        f'{event.time_ns} ns: {response.result.reason}')
 
 
 def recover(path: str, output: str | None = None, in_place: bool = False) -> int:

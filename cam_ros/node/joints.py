@@ -16,6 +16,12 @@ from typing import NamedTuple
 
 from cam_ros.core import CamDesign
 
+#: The joint names of ~/joint_states (in this order); ~/commands and ~/joint_trajectory drive the
+#: follower joint only.
+CAM_JOINT = 'cam'
+FOLLOWER_JOINT = 'follower'
+JOINT_NAMES = (CAM_JOINT, FOLLOWER_JOINT)
+
 
 class JointCoordinates(NamedTuple):
     """Map design values to joints: cam q = cam_sign * theta, follower = offset + sign * s."""

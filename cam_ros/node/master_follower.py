@@ -29,6 +29,7 @@ from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConf
                                       MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.node.joints import FOLLOWER_JOINT, JOINT_NAMES
 from cam_ros.node.master_intake import MASTER_QOS, MasterIntake, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
 
@@ -39,7 +40,6 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
 #: The slave's state: best effort matches the broadcaster whatever its reliability.
 SLAVE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
 DIAGNOSTICS_PERIOD_S = 1.0
-FOLLOWER = 'follower'
 LEVELS = {WAITING: DiagnosticStatus.WARN, OK: DiagnosticStatus.OK,
           STALE: DiagnosticStatus.WARN, LOST: DiagnosticStatus.ERROR}
 
@@ -170,7 +170,7 @@ class MasterFollower:
         position, velocity = float(point.position), float(point.velocity)
         value = position if self._config.interface == 'position' else velocity
         self._commands_pub.publish(Float64MultiArray(data=[value]))
-        joints = JointState(name=['cam', FOLLOWER], position=[state.position, position],
+        joints = JointState(name=list(JOINT_NAMES), position=[state.position, position],
                             velocity=[state.omega, velocity])
         joints.header = message.header
         self._joint_pub.publish(joints)
@@ -191,7 +191,7 @@ class MasterFollower:
     def _on_slave(self, message: JointState) -> None:
         """Note the driven axis's position (joint follower); where a first engagement starts."""
         try:
-            position, _ = read_master(FOLLOWER, message.name, message.position,
+            position, _ = read_master(FOLLOWER_JOINT, message.name, message.position,
                                       message.velocity, message.effort)
         except BadMaster as bad:
             self._tracker.drop(f'slave state: {bad.reason}')
@@ -233,7 +233,7 @@ class MasterFollower:
         self._commands_pub.publish(Float64MultiArray(
             data=[held if self._config.interface == 'position' else 0.0]))
         last = self._tracker.last
-        joints = JointState(name=['cam', FOLLOWER], velocity=[0.0, 0.0],
+        joints = JointState(name=list(JOINT_NAMES), velocity=[0.0, 0.0],
                             position=[last.position if last else 0.0, held])
         joints.header.stamp = self._node.get_clock().now().to_msg()
         self._joint_pub.publish(joints)
@@ -337,7 +337,7 @@ def jump_speed(design: CamDesign) -> float | None:
 def _trajectory(times: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
                 accelerations: np.ndarray) -> JointTrajectory:
     """Build a follower trajectory starting now (stamp 0) with points at times (s)."""
-    trajectory = JointTrajectory(joint_names=[FOLLOWER])
+    trajectory = JointTrajectory(joint_names=[FOLLOWER_JOINT])
     trajectory.points = [
         JointTrajectoryPoint(positions=[p], velocities=[v], accelerations=[a],
                              time_from_start=Duration(nanoseconds=round(t * 1e9)).to_msg())

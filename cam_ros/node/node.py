@@ -34,7 +34,7 @@ from cam_ros.core import (CamDesign, CamError, InvalidParameter, build_design, c
 from cam_ros.core.config.parameters import PARAMETERS, SPECS
 from cam_ros.core.errors import one_line
 from cam_ros.node.master_follower import MasterFollower
-from cam_ros.node.joints import joint_coordinates
+from cam_ros.node.joints import FOLLOWER_JOINT, joint_coordinates, JOINT_NAMES
 from cam_ros.node.middleware import use_shipped_profile
 from cam_ros.node.qos_events import publisher
 from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
@@ -230,7 +230,7 @@ class CamNode(Node):
         design = self.design
         profile = design.profile(design.config.sample_count)
         stamp = self.get_clock().now().to_msg()
-        trajectory = JointTrajectory(joint_names=['follower'])
+        trajectory = JointTrajectory(joint_names=[FOLLOWER_JOINT])
         trajectory.header.stamp = stamp
         trajectory.header.frame_id = CAM_FRAME
         omega = design.config.cam_speed
@@ -282,7 +282,7 @@ class CamNode(Node):
         stamp = now.to_msg()
         sigma, offset, sign = joint_coordinates(design)
         joints = JointState(
-            name=['cam', 'follower'],
+            name=list(JOINT_NAMES),
             position=[sigma * theta, offset + sign * float(state.position[0])],
             velocity=[sigma * design.config.cam_speed, sign * float(state.velocity[0])])
         joints.header.stamp = stamp

@@ -58,19 +58,23 @@ class Player:
 
     def play(self, rate: Optional[float] = 1.0, loop: bool = False,
              on_message: Optional[Callable[[RecordedMessage], None]] = None,
-             stop: Optional[threading.Event] = None) -> int:
+             stop: Optional[threading.Event] = None,
+             before_message: Optional[Callable[[int], None]] = None) -> int:
         """
         Publish the recorded wire bytes; return how many were published.
 
         Messages keep their log-time spacing divided by `rate` (None: as fast as possible);
-        `loop` repeats until `stop` is set; `on_message` sees each published message. Reliable
-        publishers get ACK_TIMEOUT s at the end to have everything acknowledged.
+        `loop` repeats until `stop` is set; `on_message` sees each published message and
+        `before_message` the log time (ns) of each before it is published (e.g. a
+        ParameterSchedule). Reliable publishers get ACK_TIMEOUT s at the end to have everything
+        acknowledged.
         """
         _check_rate(rate)
         stop = stop or threading.Event()
         count = 0
         while not stop.is_set():
-            published = _play_once(self.recording, self.publishers, rate, on_message, stop)
+            published = _play_once(self.recording, self.publishers, rate, on_message, stop,
+                                   before_message)
             count += published
             if not loop or not published:
                 break
@@ -97,7 +101,8 @@ class Player:
 def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,
            rate: Optional[float] = 1.0, topics: Optional[Iterable[str]] = None,
            loop: bool = False, on_message: Optional[Callable[[RecordedMessage], None]] = None,
-           stop: Optional[threading.Event] = None, wait_for_subscribers: float = 0.0) -> int:
+           stop: Optional[threading.Event] = None, wait_for_subscribers: float = 0.0,
+           before_message: Optional[Callable[[int], None]] = None) -> int:
     """
     Publish the recorded wire bytes of `topics` (default all) from `node`; return the count.
 
@@ -108,7 +113,7 @@ def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,
     _check_rate(rate)  # before any publisher exists or any waiting
     with Player(recording, node, topics) as player:
         player.wait_for_subscribers(wait_for_subscribers, stop)
-        return player.play(rate, loop, on_message, stop)
+        return player.play(rate, loop, on_message, stop, before_message)
 
 
 def _check_rate(rate: Optional[float]) -> None:
@@ -125,7 +130,8 @@ def _publisher(node: Node, recording: Recording, name: str) -> Publisher:
 
 def _play_once(recording: Recording, publishers: dict[str, Publisher], rate: Optional[float],
                on_message: Optional[Callable[[RecordedMessage], None]],
-               stop: threading.Event) -> int:
+               stop: threading.Event,
+               before_message: Optional[Callable[[int], None]] = None) -> int:
     """Publish the selected messages once, paced by log time; return how many were published."""
     count = 0
     origin: Optional[tuple[float, int]] = None  # (monotonic s, log time ns) of the first message
@@ -137,6 +143,8 @@ def _play_once(recording: Recording, publishers: dict[str, Publisher], rate: Opt
                 break
         if stop.is_set():
             break
+        if before_message is not None:
+            before_message(message.log_time_ns)
         publishers[message.topic].publish(bytes(message.message))
         count += 1
         if on_message is not None:

@@ -36,7 +36,8 @@ FAILURES = {'report': ('violates one of its limits', False), 'sample': ('violate
             'call': ('service was not available', False), 'echo': ('did not arrive', True),
             'record': ('node was not found', False), 'reload': ('node was not found', False),
             'param get': ('refused', False), 'param set': ('refused', False),
-            'param list': ('refused', False), 'info': (None, False), 'replay': (None, True),
+            'param list': ('refused', False), 'info': (None, False),
+            'replay': ('rejected a recorded change', True),
             'recover': (None, False)}
 HANDLERS = {'info': 'cam_ros.commands.recording:info',
             'replay': 'cam_ros.commands.recording:replay',
