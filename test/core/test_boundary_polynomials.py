@@ -227,3 +227,10 @@ def test_rest_to_rest_laws_give_r_r_and_g_g():
     assert gg_program(ConstantAcceleration()).segment_summary()[0].task == 'G-G'
     harmonic = Segment(make_law('simple_harmonic'), 0.0, 1.0, 0.0, 0.02)
     assert motion_task(harmonic) == 'R-R'
+
+
+def test_a_loop_with_a_negligible_leading_term_keeps_its_excursion():
+    """Hypothesis found it: v1 = 5e-274 left a 1e-273 z^5 term that lost the peak at z = 1/2."""
+    law = Poly5.through(0.0, 1.0, (0.0, 1.0), (5.267373244881407e-274, 1.0))
+    assert law.amplitude == pytest.approx(1.0 / 32.0, rel=1e-12)  # 0.5 z^2 (1 - z)^2 at 1/2
+    check_through(Poly5, 0.0, 1.0, (0.0, 1.0), (5.267373244881407e-274, 1.0), 0.0, 0.0)

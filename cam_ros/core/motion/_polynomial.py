@@ -224,8 +224,15 @@ class BoundaryPolynomial(PolynomialShape):
 
 
 def _peak_excursion(coefficients: FloatArray) -> float:
-    """Return max |p(u)| over [0, 1]: at an end or a real root of p' inside."""
-    stationary = polynomial.polyroots(polynomial.polyder(coefficients))
+    """Return max |p(u)| over [0, 1]: at an end or a real root of p' inside.
+
+    Leading terms of p' negligible next to its largest drop first: a 1e-273 leading
+    coefficient would scale the companion matrix and lose the true roots.
+    """
+    slope = polynomial.polyder(coefficients)
+    scale = float(np.max(np.abs(slope), initial=0.0))
+    stationary = polynomial.polyroots(polynomial.polytrim(slope, 1e-15 * scale) if scale
+                                      else [0.0])
     inside = stationary.real[(np.abs(stationary.imag) < 1e-12)
                              & (stationary.real > 0.0) & (stationary.real < 1.0)]
     return float(np.max(np.abs(polynomial.polyval(np.array([0.0, 1.0, *inside]), coefficients))))
