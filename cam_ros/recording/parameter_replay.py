@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rclpy.parameter import Parameter
 
-from cam_ros.core.config.schema import SPECS
+from cam_ros.core.config.parameters import SPECS
 from cam_ros.recording.parameters import ParameterChange
 
 #: Parameters a replay leaves alone.

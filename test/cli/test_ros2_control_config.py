@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 import yaml
 from cli_support import CONFIG_DIR, REPO
 
-from cam_ros.core.config.schema import PARAMETERS
+from cam_ros.core.config.parameters import PARAMETERS
 from cam_ros.node.joints import CAM_JOINT, FOLLOWER_JOINT, JOINT_NAMES
 
 FOLDER = CONFIG_DIR / 'ros2_control'
