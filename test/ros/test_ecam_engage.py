@@ -71,13 +71,15 @@ def test_ramp_engage_onto_600_rpm_and_switch_edges_at_their_angles(start_cam_nod
     steady = np.arange(speeds.size) >= 3
     np.testing.assert_allclose(speeds[steady], SPEED, rtol=1e-9)  # exact at constant speed
     # Switches: the glue track is on where the cam angle + lead * speed is in [40, 100) deg.
-    deadline = time.monotonic() + WAIT_S
-    while len(switches.messages) < 2 * 10 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    words = [m.data for m in switches.messages]
     phase = np.degrees(q + 0.002 * SPEED) % 360.0
     expected = ((phase >= 40.0) & (phase < 100.0)).astype(int)
     changes = expected[np.flatnonzero(np.diff(expected)) + 1].tolist()
+    assert len(changes) == 2 * 10
+    deadline = time.monotonic() + WAIT_S  # until the last edge has arrived (or the deadline)
+    while ([m.data for m in switches.messages][-len(changes):] != changes
+           and time.monotonic() < deadline):
+        time.sleep(0.05)
+    words = [m.data for m in switches.messages]
     assert words[-len(changes):] == changes
     state = link.diagnostics('cam: engagement', lambda v: v['message'] == 'engaged')
     assert state['switches'] in ('0', '1') and state['engage_mode'] == 'ramp'
