@@ -93,8 +93,7 @@ class CamDesign:
         turn adds its advance to the position.
         """
         theta = cam_angles(angles)
-        motion = self.program.evaluate(np.asarray(angles, dtype=float) if self.program.advance
-                                       else theta)
+        motion = self.program.evaluate(angles)  # the program wraps, and counts an advance
         timed = motion.at_speed(self.config.cam_speed)
         if self.follower is None:
             nan = np.full(theta.shape, math.nan)

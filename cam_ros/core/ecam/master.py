@@ -107,9 +107,8 @@ class ElectronicCam:
     def derivatives(self, master: npt.ArrayLike) -> MasterDerivatives:
         """Return y and its derivatives per rad of master (not of cam) at master positions."""
         mapping = self.mapping
-        turns = mapping.turns(master)
-        # An advancing program (a rotary slave) adds its advance per whole turn of the cam.
-        values = self.program.evaluate(turns if self.program.advance else np.mod(turns, TWO_PI))
+        # The program wraps the turns and adds an advancing program's advance per whole turn.
+        values = self.program.evaluate(mapping.turns(master))
         k, m = mapping.slave_scaling, mapping.master_scaling
         return MasterDerivatives(k * values.s + mapping.slave_offset, k * values.ds / m,
                                  k * values.d2s / m ** 2, k * values.d3s / m ** 3)
