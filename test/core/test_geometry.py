@@ -13,6 +13,7 @@ from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller,
                                              TranslatingRoller)
 from cam_ros.core.arrays import BLOCK
 from cam_ros.core.geometry.cam_geometry import cam_geometry, contact_measures
+from cam_ros.core.geometry.closure import ConjugateRoller
 from cam_ros.core.geometry.check import check_geometry
 import numpy as np
 import pytest
@@ -159,6 +160,20 @@ def test_contact_measures_equal_the_geometry_in_blocks(follower_case, clockwise)
     curvature, expected = 1.0 / (radius + roller), 1.0 / (geometry.surface_radius + roller)
     np.testing.assert_allclose(curvature, expected, rtol=0.0,
                                atol=EXACT * np.abs(expected).max())
+
+
+def test_a_conjugate_second_roller_takes_its_own_geometry_not_roller_1s_closed_form(clockwise):
+    """ConjugateRoller is a TranslatingRoller below the cam centre: its contact is its own."""
+    first = TranslatingRoller(0.04, 0.01, 0.005)
+    second = ConjugateRoller(0.04, 0.01, 0.005, spacing=2.0 * (first.prime_height + 0.02))
+    theta = np.linspace(0.0, 2 * np.pi, 2 * BLOCK + 5)
+    motion = rise_return(theta, 0.02)
+    angle, radius = contact_measures(second, theta, *motion, clockwise=clockwise)
+    geometry = cam_geometry(second, theta, *motion, clockwise=clockwise)
+    np.testing.assert_array_equal(angle, geometry.pressure_angle)
+    np.testing.assert_array_equal(radius, geometry.surface_radius)
+    assert not np.allclose(angle, contact_measures(first, theta, *motion,
+                                                   clockwise=clockwise)[0])
 
 
 def test_pressure_angle_matches_direct_geometry(follower_case, clockwise):

@@ -31,8 +31,8 @@ from ..motion.program import MotionProgram
 from .cam_geometry import cam_geometry
 from .check import _curvature, _Extremes, check_geometry, GeometryCheck
 from .envelope import Profile, roller_profile
-from .followers import (_arm_angle_problem, _arm_vectors, _first_bad, Follower,
-                        OscillatingRoller, TranslatingRoller)
+from .followers import (_arm_angle_problem, _arm_vectors, _contact_from_geometry, _first_bad,
+                        Follower, OscillatingRoller, TranslatingRoller)
 from .machining import cam_contour, Contour
 
 Array = np.ndarray
@@ -107,6 +107,9 @@ class ConjugateRoller(TranslatingRoller):
         centre = np.array((self.offset + zero, self.prime_height + s - self.spacing))
         return roller_profile(theta, sigma, centre, np.array((zero, ds)),
                               np.array((zero, d2s)), np.array((zero, -one)), self.roller_radius)
+
+    # Roller 1's closed form (TranslatingRoller._contact) assumes roller 1's centre and normal.
+    _contact = _contact_from_geometry
 
 
 @dataclass(frozen=True)

@@ -165,8 +165,11 @@ class TranslatingFlat:
         radius += d2s
 
 
-def _measures_into(profile: Profile, angle: Array, radius: Array) -> None:
-    """Copy a profile's pressure angle and surface radius into angle and radius."""
+def _contact_from_geometry(follower: 'Follower', theta: Array, sigma: int, s: Array, ds: Array,
+                           d2s: Array, angle: Array, radius: Array) -> None:
+    """Write the pressure angle and surface radius of the follower's full _geometry into angle
+    and radius: the _contact of a follower without a closed form of its own."""
+    profile = follower._geometry(theta, sigma, s, ds, d2s)
     np.copyto(angle, profile.pressure_angle)
     np.copyto(radius, profile.surface_radius)
 
@@ -235,9 +238,7 @@ class OscillatingRoller:
         return roller_profile(theta, sigma, centre, arm * ds * w, arm * (d2s * w - ds ** 2 * u),
                               w, self.roller_radius)
 
-    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
-                 angle: Array, radius: Array) -> None:
-        _measures_into(self._geometry(theta, sigma, s, ds, d2s), angle, radius)
+    _contact = _contact_from_geometry
 
 
 @dataclass(frozen=True)
@@ -298,9 +299,7 @@ class OscillatingFlat:
         _, foot_curvature = relative_motion(sigma, foot, f * ds * u, f * (d2s * u + ds ** 2 * w))
         return Profile(theta, sigma, foot, contact, angle, foot_curvature, radius, along, w)
 
-    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
-                 angle: Array, radius: Array) -> None:
-        _measures_into(self._geometry(theta, sigma, s, ds, d2s), angle, radius)
+    _contact = _contact_from_geometry
 
 
 Follower = Union[TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat]
