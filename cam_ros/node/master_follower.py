@@ -194,7 +194,8 @@ class MasterFollower:
             position, _ = read_master(FOLLOWER_JOINT, message.name, message.position,
                                       message.velocity, message.effort)
         except BadMaster as bad:
-            self._tracker.drop(f'slave state: {bad.reason}')
+            with self._lock:  # the master thread counts in the same tracker
+                self._tracker.drop(f'slave state: {bad.reason}')
             return
         with self._lock:
             self._follower.present = position

@@ -45,3 +45,9 @@ def test_every_edge_comes_at_its_angle_less_the_lead_at_that_speed(rpm, directio
     # The one-degree pulse is seen on and off once per turn, even when between two samples.
     pulses = sum(1 for _, words in changes for w in words if w & 4)
     assert pulses == 1
+
+
+def test_without_tracks_the_word_is_0_said_once():
+    tracks = SwitchTracks(SwitchTable((), np.array([]), np.array([]), np.array([]), 0.1 * DEG))
+    said = [tracks.update(turn, 10.0) for turn in (0.0, 1.0, 7.0, -3.0)]
+    assert said == [[0], [], [], []] and tracks.word == 0

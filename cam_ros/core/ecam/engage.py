@@ -21,6 +21,7 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
+from ..motion.laws import Polynomial345
 from .master import MasterDerivatives
 
 
@@ -31,14 +32,16 @@ class SlavePath(Protocol):
         """Return the path and its derivatives at master positions (rad)."""
 
 
+#: b(u) = 10 u^3 - 15 u^4 + 6 u^5 is the 3-4-5 motion law.
+_SMOOTHSTEP = Polynomial345()
+
+
 def smoothstep(u: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Return b(u) = 10 u^3 - 15 u^4 + 6 u^5 and its three derivatives (u clipped to [0, 1])."""
+    """Return b(u) and its three derivatives (u clipped to [0, 1])."""
     t: np.ndarray = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
     inside = np.where(t < 1.0, 1.0, 0.0)  # past the end the blend is B itself: no derivatives
-    return (t ** 3 * (10.0 - 15.0 * t + 6.0 * t * t),
-            inside * 30.0 * t * t * (1.0 - t) ** 2,
-            inside * 60.0 * t * (1.0 - t) * (1.0 - 2.0 * t),
-            inside * (60.0 - 360.0 * t + 360.0 * t * t))
+    b = _SMOOTHSTEP.evaluate(t)
+    return b.y, inside * b.y1, inside * b.y2, inside * b.y3
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,6 @@ from .handover import Handover
 from .master import chain_rule, ElectronicCam, MasterState, Setpoints
 
 IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
-ENGAGE_MODES = (IMMEDIATE, RAMP, NEXT_CYCLE)
 #: What the slave is doing: the message of ~/state and of the engagement diagnostics.
 HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle start', \
     'engaging', 'engaged'

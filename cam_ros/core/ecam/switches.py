@@ -78,6 +78,9 @@ class SwitchTracks:
         turns is the unwrapped cam angle (rad), cam_speed the cam's speed omega / m (rad/s).
         """
         table = self.table
+        if not table.names:  # no tracks: the word is 0 for good, said once
+            changes, self.word = ([] if self.word == 0 else [0]), 0
+            return changes
         fresh = self._z is None
         z = turns if self._z is None else min(max(self._z, turns), turns + table.hysteresis)
         self._z = z
