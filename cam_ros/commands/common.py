@@ -21,6 +21,19 @@ DYNAMICS_FIELDS = (
 )
 
 
+def positive_quantity(option: str, text: str, design: CamDesign, angular: bool = False) -> float:
+    """Return a typed length option in m (an angle in rad when angular), > 0.
+
+    A bare number is in the config's length_unit (deg when angular).
+    """
+    from cam_ros.core.config.quantity import typed_quantity
+
+    value = typed_quantity(option, text, design.config.length_unit, angular=angular)
+    if value <= 0.0:
+        raise InvalidParameter(option, text, 'must be > 0')
+    return value
+
+
 def load_design(config: str | Path) -> CamDesign:
     """Read, check and build the design of a config file (raises InvalidParameter)."""
     return build_design(load_config(config))

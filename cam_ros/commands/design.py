@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from cam_ros.commands.common import (dump_json, DYNAMICS_FIELDS, end_progress, format_table,
-                                     load_design, number, output_path, progress, verdict,
-                                     writing)
+                                     load_design, number, output_path, positive_quantity,
+                                     progress, verdict, writing)
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import design_report
@@ -204,7 +204,8 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
         split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
     design = load_design(config)
     unit, factor = design.config.file_position_unit
-    limit = None if tolerance is None else _table_tolerance(tolerance, design)
+    limit = None if tolerance is None else positive_quantity(  # in the table's unit
+        '--tolerance', tolerance, design, angular=design.config.angular)
     try:
         table = (tolerance_table(design.program, limit, interpolation, unit=(unit, factor))
                  if limit is not None else
@@ -226,14 +227,3 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     if note:
         print(f'note: {note}')
     return verdict('export', design)
-
-
-def _table_tolerance(text: str, design: CamDesign) -> float:
-    """Return --tolerance in SI: a bare number is in the table's unit (file_position_unit)."""
-    from cam_ros.core.config.quantity import typed_quantity
-
-    value = typed_quantity('--tolerance', text, design.config.length_unit,
-                           angular=design.config.angular)
-    if value <= 0.0:
-        raise InvalidParameter('--tolerance', text, 'must be > 0')
-    return value

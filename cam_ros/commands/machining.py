@@ -3,21 +3,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cam_ros.commands.common import load_design, number, verdict, writing
+from cam_ros.commands.common import load_design, number, positive_quantity, verdict, writing
 from cam_ros.core import CamDesign, InvalidParameter
-from cam_ros.core.config.quantity import typed_quantity
 from cam_ros.core.geometry.arcs import fit_arcs, lines_only
 from cam_ros.core.geometry.machining import Contour, cutter_contours, place_points
 from cam_ros.core.program_from_config import in_file_units
 from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
-
-
-def _length(option: str, text: str, design: CamDesign) -> float:
-    """Return a typed length option (bare: length_unit) in m, > 0."""
-    value = typed_quantity(option, text, design.config.length_unit, angular=False)
-    if value <= 0.0:
-        raise InvalidParameter(option, text, 'must be > 0')
-    return value
 
 
 def _restated(err: InvalidParameter, option: str, text: str,
@@ -49,8 +40,9 @@ def export_machining(config: str, output: str, cutter_radius: str | None,
         raise InvalidParameter('--machining', True, 'the cam surface is undercut (see `cam_ros '
                                                     'report`): it has no cutter path')
     unit = 'in' if design.config.length_unit == 'in' else 'mm'
-    limit = _length('--tolerance', tolerance, design)
-    radius = None if cutter_radius is None else _length('--cutter-radius', cutter_radius, design)
+    limit = positive_quantity('--tolerance', tolerance, design)
+    radius = (None if cutter_radius is None
+              else positive_quantity('--cutter-radius', cutter_radius, design))
     nominal = file_format == 'csv' or compensation is not None
     contours, lead = _contours(design, radius, nominal, cutter_radius or '')
     try:
