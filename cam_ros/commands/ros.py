@@ -24,6 +24,7 @@ from cam_ros.client import CamClient, CamClientError, missing
 from cam_ros.commands.common import dump_json, DYNAMICS_FIELDS, format_table, number, say
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
+from cam_ros.core.config.schema import angular_positions
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.node.middleware import use_shipped_profile
 
@@ -95,7 +96,7 @@ def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
     if response is None or len(response.values) != 2:
         return 'm|rad'
     kind, unit = (value.string_value for value in response.values)
-    return 'rad' if kind.startswith('oscillating') or unit == 'deg' else 'm'
+    return 'rad' if angular_positions(kind, unit) else 'm'
 
 
 def _call_units(unit: str, dynamics: bool) -> dict[str, str]:

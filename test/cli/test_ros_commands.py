@@ -93,6 +93,13 @@ def test_call_reports_units_of_an_oscillating_follower(start_cam_node, tmp_path,
     assert json.loads(run.out)['units']['velocity'] == 'rad/s'
 
 
+def test_call_reports_units_of_a_rotary_slave(start_cam_node, capsys):
+    start_cam_node(CONFIG_DIR / 'rotary_knife.yaml')  # follower.type none, length_unit deg
+    run = run_cli(capsys, 'call', '2', '--json', '--timeout', NODE_TIMEOUT_S)
+    assert run.code == 0, run.err
+    assert json.loads(run.out)['units']['velocity'] == 'rad/s'
+
+
 def test_call_refused_by_the_node_exits_1_with_its_message(start_cam_node, capsys):
     start_cam_node(DEFAULT_CONFIG, '-p', 'output.max_batch:=2')
     run = run_cli(capsys, 'call', '1', '2', '3', '--timeout', NODE_TIMEOUT_S)

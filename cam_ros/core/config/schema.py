@@ -114,7 +114,7 @@ class CamConfig:
     @property
     def angular(self) -> bool:
         """True when positions are angles (rad): an oscillating arm or a rotary slave (deg)."""
-        return self.oscillating or self.length_unit == 'deg'
+        return angular_positions(self.follower.type, self.length_unit)
 
     @property
     def position_unit(self) -> str:
@@ -317,6 +317,11 @@ def _check_switches(values: Mapping[str, Any]) -> None:
         if math.isclose(math.fmod(on, 360.0), math.fmod(off, 360.0), abs_tol=1e-12):
             raise InvalidParameter(f'switches.off_deg[{index}]', off,
                                    f'must differ from switches.on_deg[{index}] ({on:g} deg)')
+
+
+def angular_positions(follower_type: str, length_unit: str) -> bool:
+    """Say whether a follower's positions are angles: an oscillating arm or a rotary slave."""
+    return follower_type.startswith('oscillating') or length_unit == 'deg'
 
 
 def load_config(path: str | Path) -> CamConfig:
