@@ -183,8 +183,16 @@ class CamDesign:
         first = cam_contour(self.cam_follower, self.surface, self.clockwise)
         if f.closure == 'force':
             return {'surface': first}
-        second = conjugate_follower(self.cam_follower, self.surface, f.conjugate_angle)
+        second = cast(Follower, self._conjugate)
         return {'first': first, 'second': cam_contour(second, self.surface, self.clockwise)}
+
+    @cached_property
+    def _conjugate(self) -> Follower | None:
+        """Return a conjugate pair's second roller or arm (closure.py), None for other cams."""
+        f = self.config.follower
+        if f.closure != 'conjugate':
+            return None
+        return conjugate_follower(self.cam_follower, self.surface, f.conjugate_angle)
 
     @cached_property
     def closure(self) -> ClosureCheck | None:
@@ -202,9 +210,8 @@ class CamDesign:
         f = self.config.follower
         if f.closure == 'force':
             return None
-        second = (conjugate_follower(self.cam_follower, self.surface, f.conjugate_angle)
-                  if f.closure == 'conjugate' else None)
-        return form_closed_sides(self.cam_follower, self.clockwise, second, f.groove_clearance)
+        return form_closed_sides(self.cam_follower, self.clockwise, self._conjugate,
+                                 f.groove_clearance)
 
     @cached_property
     def side_loads(self) -> SideLoads | None:
