@@ -111,7 +111,7 @@ class MasterFollower:
         with self._lock:
             self._design_status, self._config = status, config
             self._tracker.timeout_ns = int(config.timeout * 1e9)
-            self._tracker.window_ns = int(values['master.velocity_window'] * 1e9)
+            self._tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
             self._speed_limit, self._tracker.max_speed = limit, limit[0]
             if self._follower.cam.mapping != config.mapping or not _same(table, self._tracks):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states

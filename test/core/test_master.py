@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cam_ros.core import InvalidParameter, build_design, parse_parameters, read_parameters_file
-from cam_ros.core.ecam.master import (BACKWARDS, BadMaster, CamMapping, ElectronicCam, estimate,
+from cam_ros.core.ecam.master import (BACKWARDS, BadMaster, CamMapping, ElectronicCam,
                                       LENGTHS, LOST, MasterConfig, MasterTracker, NO_JOINT,
                                       NOT_FINITE, OK, read_master, STALE, WAITING)
 
@@ -160,9 +160,9 @@ def test_estimates_are_exact_for_constant_acceleration_at_irregular_stamps(wrapp
     positions, speeds = accelerating(stamps)
     if wrapped:  # an encoder reporting [0, 2 pi) must give the same estimates
         positions = np.mod(positions, 2 * math.pi)
-    history = []
+    tracker, history = MasterTracker(SECOND), []
     for index, (stamp, q) in enumerate(zip(stamps.tolist(), positions.tolist())):
-        state = estimate(history[-2:], stamp, q, None)
+        state = tracker.accept(stamp, q, None, stamp)
         history.append(state)
         if index >= 2:
             assert state.omega == pytest.approx(speeds[index], rel=1e-9, abs=1e-9)
@@ -173,8 +173,9 @@ def test_estimates_are_exact_for_constant_acceleration_at_irregular_stamps(wrapp
 def test_a_given_velocity_is_used_and_alpha_follows_from_it():
     stamps = [0, 1_000_000, 3_000_000]
     positions, speeds = accelerating(stamps)
-    first = estimate([], stamps[0], positions[0], speeds[0])
-    second = estimate([first], stamps[1], positions[1], speeds[1])
+    tracker = MasterTracker(SECOND)
+    first = tracker.accept(stamps[0], positions[0], speeds[0], 0)
+    second = tracker.accept(stamps[1], positions[1], speeds[1], 0)
     assert (first.omega, first.alpha) == (speeds[0], 0.0)
     assert second.omega == speeds[1]
     assert second.alpha == pytest.approx(25.0, rel=1e-9)

@@ -19,7 +19,8 @@ follower's velocity, acceleration and jerk exactly (s', s'', s''' per rad of cam
 Master samples come with integer-nanosecond stamps. omega is the message's velocity when it has
 one; otherwise, like alpha, it is estimated by the least-squares quadratic over the positions of
 the last master.velocity_window seconds, at least the last three (speed_estimate: exact for a
-master at constant acceleration, any spacing of the stamps; a window averages stamp jitter).
+master at constant acceleration, any spacing of the stamps; a window averages stamp jitter, and
+the stamps of a master on a fixed cycle are de-jittered by a delay-locked loop, cycle_clock).
 Successive positions are unwrapped (the master moves less than half a turn between messages),
 so an encoder that wraps at 2 pi and a multi-turn position give the same estimates.
 """
@@ -36,7 +37,7 @@ import numpy.typing as npt
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..motion.program import MotionProgram, TWO_PI
-from .speed_estimate import fit_speed, QUADRATIC
+from .speed_estimate import SpeedEstimator
 
 #: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.
 WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
@@ -220,26 +221,24 @@ class MasterTracker:
     def __init__(self, timeout_ns: int, max_speed: float = math.inf, window_ns: int = 0):
         self.timeout_ns = int(timeout_ns)
         self.max_speed = float(max_speed)
-        self.window_ns = int(window_ns)  # of the speed estimate; 0: the last three samples
+        self.speed = SpeedEstimator(window_ns)  # window_ns 0: the last three samples
         self.status = WAITING
         self.dropped: Counter[str] = Counter()
         self.accepted = 0
         self.overspeed = False
         self.last: MasterState | None = None
-        self._history: list[MasterState] = []  # the samples the estimates still use
         self._received_ns = 0
 
     def accept(self, stamp_ns: int, position: float, velocity: float | None,
                received_ns: int) -> MasterState:
         """Return the state of a new sample; raise BadMaster(BACKWARDS) for an old stamp."""
-        if self.last is not None and stamp_ns <= self.last.stamp_ns:
+        last = self.last
+        if last is not None and stamp_ns <= last.stamp_ns:
             raise BadMaster(BACKWARDS)
-        history = self._history if self.status != LOST else []
-        keep = sum(stamp_ns - sample.stamp_ns < self.window_ns for sample in history)
-        history = history[-max(keep, QUADRATIC - 1):]
-        turns = 0.0 if self.last is None else self.last.track - self.last.position
-        state = estimate(history, stamp_ns, position, velocity, turns)
-        self._history = [*history, state]
+        if self.status == LOST:
+            self.speed.reset()
+        state = estimate(last if self.status != LOST else None, self.speed, stamp_ns, position,
+                         velocity, 0.0 if last is None else last.track - last.position)
         self.last, self._received_ns, self.status = state, received_ns, OK
         self.accepted += 1
         self.overspeed = abs(state.omega) > self.max_speed
@@ -263,28 +262,28 @@ class MasterTracker:
         return status
 
 
-def estimate(history: Sequence[MasterState], stamp_ns: int, position: float,
-             velocity: float | None, turns: float = 0.0) -> MasterState:
+def estimate(previous: MasterState | None, speed: SpeedEstimator, stamp_ns: int,
+             position: float, velocity: float | None, turns: float = 0.0) -> MasterState:
     """
-    Return the state at a new sample from the previous ones still in the window (oldest first).
+    Return the state at a new sample, given the previous one (None: the first, or the first
+    after a loss) and the estimator of the samples before, which takes the new one.
 
-    omega and alpha come from fit_speed over the tracks of history and the new sample (three
-    samples: the quadratic through them; two: the mean speed; one: no speed). A given velocity is
-    taken as omega, and alpha = (omega - omega_before)/h1 with h1 the last stamp interval.
-    Without history (the first sample, or the first after a loss) the track is position + turns,
-    the whole turns the track had gained over the position before (0 for a multi-turn master).
+    A given velocity is taken as omega, and alpha = (omega - omega_before)/h1 with h1 the last
+    stamp interval; otherwise both come from the estimator. Without a previous sample the track
+    is position + turns, the whole turns the track had gained over the position before (0 for a
+    multi-turn master).
     """
-    if not history:
+    if previous is None:
+        speed.add(stamp_ns, position + turns)
         return MasterState(stamp_ns, position, velocity or 0.0, 0.0, 0.0, position + turns)
-    previous = history[-1]
     d1 = math.remainder(position - previous.position, TWO_PI)
     # The representative of position (mod 2 pi) nearest the previous track plus the step: a
     # multi-turn master's track is its position exactly, a wrapping one's is that plus k turns.
     track = position + TWO_PI * round((previous.track + d1 - position) / TWO_PI)
+    speed.add(stamp_ns, track)
     if velocity is not None:
         h1 = (stamp_ns - previous.stamp_ns) * 1e-9
         return MasterState(stamp_ns, position, velocity, (velocity - previous.omega) / h1, d1,
                            track)
-    omega, alpha = fit_speed([*(sample.stamp_ns for sample in history), stamp_ns],
-                             [*(sample.track for sample in history), track])
+    omega, alpha = speed.estimate()
     return MasterState(stamp_ns, position, omega, alpha, d1, track)

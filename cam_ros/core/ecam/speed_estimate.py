@@ -6,33 +6,111 @@ The quadratic q(t) = c0 + c1 (t - t_n) + c2 (t - t_n)^2 that fits the positions 
 it is the interpolating quadratic (the classic three-point estimate); over more it averages stamp
 jitter. Either way it is exact for a master at constant acceleration, at any stamp spacing.
 
+Stamps that jitter on a master sampled on a fixed cycle: once the CycleClock has settled on the
+cycle (cycle_clock.SETTLED samples), a window of more than three samples is fitted against the
+stamps and against the clock's times, and the one whose positions fit better (mean square residual
+averaged over MISFIT_SAMPLES) gives the estimate. Exact stamps of irregular samples keep the stamps
+(their fit is exact); jittered stamps of regular samples take the clock's times (250 Hz, ±0.2 ms,
+0.05 s window: worst speed error 2.5 % before the clock settles, 0.2 % after).
+
 Delay: for a master whose acceleration changes (jerk j), a window of length T (samples spread
 evenly over it) estimates alpha as it was T/2 ago (alpha - j T / 2) and omega with an error of
 about -j T^2 / 10; after a step of the acceleration both settle within one window.
 """
 from __future__ import annotations
 
-import numpy as np
-import numpy.typing as npt
+from bisect import bisect_right
+from typing import NamedTuple, Sequence
+
+from .cycle_clock import CycleClock
 
 #: Fewest samples the quadratic needs; fewer give the mean speed (two) or none (one).
 QUADRATIC = 3
+#: Samples over which the residuals of the two time bases are averaged before they are compared.
+MISFIT_SAMPLES = 16
 
 
-def fit_speed(times_ns: npt.ArrayLike, positions: npt.ArrayLike) -> tuple[float, float]:
+class Fit(NamedTuple):
+    """omega (rad/s) and alpha (rad/s^2) at the newest sample, the mean square residual."""
+
+    omega: float
+    alpha: float
+    misfit: float  # rad^2
+
+
+def fit_speed(times_ns: Sequence[int], positions: Sequence[float]) -> Fit:
     """
-    Return (omega, alpha) at the last of stamps times_ns (ns, ascending) of positions (rad).
+    Return the Fit at the last of stamps times_ns (ns, ascending) of positions (rad).
 
-    Two samples give their mean speed and no acceleration, one sample neither.
+    Two samples give their mean speed and no acceleration, one sample neither. The normal
+    equations are summed in plain floats: a window is a few dozen samples, where NumPy's cost per
+    call is more than the arithmetic (3.4 against 8 us for 20 samples).
     """
-    t = np.asarray(times_ns, dtype=np.int64)
-    q = np.asarray(positions, dtype=float)
-    if t.size < 2:
-        return 0.0, 0.0
-    span = (t[-1] - t[0]) * 1e-9
-    if t.size < QUADRATIC:
-        return float((q[-1] - q[0]) / span), 0.0
-    u = (t - t[-1]) * 1e-9 / span  # in [-1, 0]: a well-conditioned Vandermonde matrix
-    basis = np.stack((np.ones_like(u), u, u * u), axis=1)
-    c = np.linalg.lstsq(basis, q - q[-1], rcond=None)[0]
-    return float(c[1] / span), float(2.0 * c[2] / span ** 2)
+    count = len(times_ns)
+    if count < 2:
+        return Fit(0.0, 0.0, 0.0)
+    newest, last = times_ns[-1], positions[-1]
+    span = (newest - times_ns[0]) * 1e-9
+    if count < QUADRATIC:
+        return Fit((last - positions[0]) / span, 0.0, 0.0)
+    scale = 1.0 / (newest - times_ns[0])  # u in [-1, 0]: well-conditioned normal equations
+    s1 = s2 = s3 = s4 = b0 = b1 = b2 = yy = 0.0
+    for t, q in zip(times_ns, positions):
+        u, y = (t - newest) * scale, q - last
+        uu = u * u
+        s1, s2, s3, s4 = s1 + u, s2 + uu, s3 + uu * u, s4 + uu * uu
+        b0, b1, b2, yy = b0 + y, b1 + y * u, b2 + y * uu, yy + y * y
+    c0, c1, c2 = _solve_symmetric(float(count), s1, s2, s3, s4, b0, b1, b2)
+    misfit = max(yy - c0 * b0 - c1 * b1 - c2 * b2, 0.0) / count
+    return Fit(c1 / span, 2.0 * c2 / span ** 2, misfit)
+
+
+def _solve_symmetric(n: float, s1: float, s2: float, s3: float, s4: float,
+                     b0: float, b1: float, b2: float) -> tuple[float, float, float]:
+    """Solve [[n, s1, s2], [s1, s2, s3], [s2, s3, s4]] c = b by Cramer's rule."""
+    m00, m01, m02 = s2 * s4 - s3 * s3, s2 * s3 - s1 * s4, s1 * s3 - s2 * s2
+    det = n * m00 + s1 * m01 + s2 * m02
+    c0 = (b0 * m00 + b1 * m01 + b2 * m02) / det
+    c1 = (b0 * m01 + b1 * (n * s4 - s2 * s2) + b2 * (s1 * s2 - n * s3)) / det
+    c2 = (b0 * m02 + b1 * (s1 * s2 - n * s3) + b2 * (n * s2 - s1 * s1)) / det
+    return c0, c1, c2
+
+
+class SpeedEstimator:
+    """omega and alpha of a master from the samples of the last window_ns (see the module)."""
+
+    def __init__(self, window_ns: int = 0):
+        self.window_ns = int(window_ns)  # 0: the last three samples
+        self.clock = CycleClock()
+        self.reset()
+
+    def reset(self) -> None:
+        """Start afresh (after a master loss): no samples, the cycle unknown."""
+        self._stamps: list[int] = []
+        self._times: list[int] = []  # the clock's
+        self._positions: list[float] = []
+        self._misfits: tuple[float, float] | None = None  # smoothed: stamps, clock
+        self.clock.reset()
+
+    def add(self, stamp_ns: int, position: float) -> None:
+        """Take a sample (stamps ascending), keeping those of the window, at least three."""
+        stamps = self._stamps
+        stamps.append(stamp_ns)
+        self._times.append(self.clock.time(stamp_ns))
+        self._positions.append(position)
+        old = min(bisect_right(stamps, stamp_ns - self.window_ns), len(stamps) - QUADRATIC)
+        if old > 0:
+            del stamps[:old], self._times[:old], self._positions[:old]
+
+    def estimate(self) -> tuple[float, float]:
+        """Return (omega, alpha) at the newest sample."""
+        by_stamps = fit_speed(self._stamps, self._positions)
+        if not self.clock.settled or len(self._stamps) <= QUADRATIC:  # three: no residual
+            return by_stamps.omega, by_stamps.alpha
+        by_clock = fit_speed(self._times, self._positions)
+        stamps, clock = self._misfits or (by_stamps.misfit, by_clock.misfit)
+        stamps += (by_stamps.misfit - stamps) / MISFIT_SAMPLES
+        clock += (by_clock.misfit - clock) / MISFIT_SAMPLES
+        self._misfits = stamps, clock
+        best = by_clock if clock < stamps else by_stamps
+        return best.omega, best.alpha
