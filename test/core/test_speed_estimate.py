@@ -115,3 +115,14 @@ def test_the_cycle_clock_returns_exact_cycles_as_they_are_and_smooths_jitter():
     assert intervals.max() < 0.02 * np.abs(np.diff(jittery) - 4_000_000)[SETTLED:].max()
     deviation = np.abs(times - nominal)[4 * SETTLED:]  # the offset takes longer to settle
     assert deviation.max() < 0.25 * np.abs(jittery - nominal)[4 * SETTLED:].max()
+
+
+def test_samples_bunched_at_one_end_give_the_least_squares_line():
+    times = [1, 2, 3, 1_000_000_003]  # probes a nanosecond apart, then a sample 1 s later
+    positions = [0.0, 0.0, 0.0, 2.0]  # less than half a turn: the tracker unwraps steps
+    slope, _ = np.polyfit((np.array(times) - times[-1]) * 1e-9, positions, 1)
+    omega, alpha, _ = fit_speed(times, positions)
+    assert omega == pytest.approx(slope, rel=1e-9) and alpha == 0.0
+    tracker = MasterTracker(10 * SECOND, window_ns=SECOND // 20)
+    states = [tracker.accept(t, q, None, t) for t, q in zip(times, positions)]
+    assert states[-1].omega == pytest.approx(slope, rel=1e-9)

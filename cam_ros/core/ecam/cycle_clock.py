@@ -24,8 +24,9 @@ _OMEGA = 2.0 * math.pi / LOOP_SAMPLES
 _TIME_GAIN, _PERIOD_GAIN = math.sqrt(2.0) * _OMEGA, _OMEGA ** 2
 #: Samples after which the start-up gains have narrowed to the loop's own (k = 115): settled.
 SETTLED = LOOP_SAMPLES // 2
-#: The loop restarts when the rms stamp error passes this fraction of the period (no cycle).
-RESTART = 0.25
+#: The loop restarts when the rms stamp error passes this fraction of the period (no cycle),
+#: or when more than MAX_GAP cycles pass between two samples (the master paused).
+RESTART, MAX_GAP = 0.25, 16
 
 
 class CycleClock:
@@ -59,7 +60,7 @@ class CycleClock:
         cycles = max(1, round((t - self._time) / self._period))
         error = t - (self._time + cycles * self._period)
         self._spread += (error * error - self._spread) / LOOP_SAMPLES
-        if self._spread > (RESTART * self._period) ** 2:
+        if self._spread > (RESTART * self._period) ** 2 or cycles > MAX_GAP:
             self.reset()
             return self.time(stamp_ns)
         self.samples += 1

@@ -26,6 +26,9 @@ from .cycle_clock import CycleClock
 
 #: Fewest samples the quadratic needs; fewer give the mean speed (two) or none (one).
 QUADRATIC = 3
+#: Normal equations whose determinant is below this fraction of n s2 s4 (samples bunched at one
+#: end of the window, e.g. after a pause) give a line instead: the mean speed, no acceleration.
+SINGULAR = 1e-10
 #: Samples over which the residuals of the two time bases are averaged before they are compared.
 MISFIT_SAMPLES = 16
 
@@ -60,16 +63,23 @@ def fit_speed(times_ns: Sequence[int], positions: Sequence[float]) -> Fit:
         uu = u * u
         s1, s2, s3, s4 = s1 + u, s2 + uu, s3 + uu * u, s4 + uu * uu
         b0, b1, b2, yy = b0 + y, b1 + y * u, b2 + y * uu, yy + y * y
-    c0, c1, c2 = _solve_symmetric(float(count), s1, s2, s3, s4, b0, b1, b2)
+    solution = _solve_symmetric(float(count), s1, s2, s3, s4, b0, b1, b2)
+    if solution is None:  # bunched samples: the least-squares line
+        c1, c2 = (count * b1 - s1 * b0) / (count * s2 - s1 * s1), 0.0
+        c0 = (b0 - c1 * s1) / count
+    else:
+        c0, c1, c2 = solution
     misfit = max(yy - c0 * b0 - c1 * b1 - c2 * b2, 0.0) / count
     return Fit(c1 / span, 2.0 * c2 / span ** 2, misfit)
 
 
-def _solve_symmetric(n: float, s1: float, s2: float, s3: float, s4: float,
-                     b0: float, b1: float, b2: float) -> tuple[float, float, float]:
-    """Solve [[n, s1, s2], [s1, s2, s3], [s2, s3, s4]] c = b by Cramer's rule."""
+def _solve_symmetric(n: float, s1: float, s2: float, s3: float, s4: float, b0: float,
+                     b1: float, b2: float) -> tuple[float, float, float] | None:
+    """Solve [[n, s1, s2], [s1, s2, s3], [s2, s3, s4]] c = b by Cramer's rule (None: SINGULAR)."""
     m00, m01, m02 = s2 * s4 - s3 * s3, s2 * s3 - s1 * s4, s1 * s3 - s2 * s2
     det = n * m00 + s1 * m01 + s2 * m02
+    if det <= SINGULAR * n * s2 * s4:
+        return None
     c0 = (b0 * m00 + b1 * m01 + b2 * m02) / det
     c1 = (b0 * m01 + b1 * (n * s4 - s2 * s2) + b2 * (s1 * s2 - n * s3)) / det
     c2 = (b0 * m02 + b1 * (s1 * s2 - n * s3) + b2 * (n * s2 - s1 * s1)) / det
