@@ -516,3 +516,24 @@ def test_evaluate_at_speed_is_evaluate_then_at_speed(make):
         np.testing.assert_array_equal(getattr(direct, name), getattr(two_steps, name))
     with pytest.raises(InvalidParameter):
         cam.evaluate_at_speed(theta, math.inf)
+
+
+@pytest.mark.parametrize('advancing', [False, True])
+def test_one_angle_gives_the_very_numbers_of_an_array_of_angles(advancing):
+    """The one-angle path (a master message) skips the grouping, not a digit of the result."""
+    end = 0.36 if advancing else 0.0  # an advancing program ends above its start
+    cam = MotionProgram([Segment(law, deg(start), deg(stop), s0, s1) for law, start, stop, s0, s1
+                         in ((Cycloidal(), -30.0, 100.0, 0.0, 0.2),
+                             (Dwell(), 100.0, 150.0, 0.2, 0.2),
+                             (Polynomial4567(), 150.0, 330.0, 0.2, end))], advance=end)
+    angles = np.concatenate([np.random.default_rng(1).uniform(-40.0, 40.0, 400),
+                             [deg(-30.0), deg(100.0), deg(150.0), deg(330.0), 2 * PI, -0.0,
+                              np.nextafter(deg(330.0), 0.0), 1e6]])
+    together = cam.evaluate(angles)
+    one_by_one = [cam.evaluate(angle) for angle in angles.tolist()]
+    for name in ('s', 'ds', 'd2s', 'd3s'):
+        np.testing.assert_array_equal([getattr(v, name) for v in one_by_one],
+                                      getattr(together, name))
+    assert one_by_one[0].s.shape == () and cam.evaluate(np.float64(1.0)).s.shape == ()
+    with pytest.raises(InvalidParameter, match='theta'):
+        cam.evaluate(math.nan)

@@ -115,7 +115,8 @@ class SpeedEstimator:
     def estimate(self) -> tuple[float, float]:
         """Return (omega, alpha) at the newest sample."""
         by_stamps = fit_speed(self._stamps, self._positions)
-        if not self.clock.settled or len(self._stamps) <= QUADRATIC:  # three: no residual
+        if (not self.clock.settled or len(self._stamps) <= QUADRATIC  # three: no residual
+                or self._times == self._stamps):  # stamps on the cycle: one fit
             return by_stamps.omega, by_stamps.alpha
         by_clock = fit_speed(self._times, self._positions)
         stamps, clock = self._misfits or (by_stamps.misfit, by_clock.misfit)

@@ -17,6 +17,7 @@ full turn per cycle); then s(theta + 2 pi n) = s(theta) + n advance.
 
 import math
 import numbers
+from bisect import bisect_right
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Sequence
@@ -287,6 +288,10 @@ class MotionProgram:
         return np.maximum.accumulate(self._offsets)[1:]
 
     @cached_property
+    def _boundary_list(self) -> list[float]:
+        return self._boundaries.tolist()
+
+    @cached_property
     def _spans(self) -> FloatArray:
         return np.array([segment.span for segment in self.segments])
 
@@ -309,6 +314,8 @@ class MotionProgram:
     def _values(self, theta: npt.ArrayLike,
                 scales: tuple[float, float, float] | None) -> LawValues:
         """Return s, ds, d2s, d3s at theta, the derivatives times scales (if given)."""
+        if isinstance(theta, float) or isinstance(theta, np.ndarray) and theta.shape == ():
+            return self._value(float(theta), scales)  # one angle (a master message): no grouping
         local = self._local_angles(theta)
         turns = None
         if self.advance:
@@ -329,6 +336,23 @@ class MotionProgram:
         if turns is not None:
             values.y[...] += self.advance * turns.reshape(-1)
         return LawValues(*(value.reshape(local.shape) for value in values))
+
+    def _value(self, theta: float, scales: tuple[float, float, float] | None) -> LawValues:
+        """Return _values at one angle as 0-d arrays, the same numbers as an array of one."""
+        if not math.isfinite(theta):
+            raise InvalidParameter('theta', theta, 'must be finite (rad)')
+        turns, local = 0.0, theta - self.start if self.start else theta
+        if self.advance:
+            turns, local = divmod(theta - self.start, TWO_PI)
+        elif not 0.0 <= local < TWO_PI:
+            local %= TWO_PI
+        values = LawValues(*(np.empty(1) for _ in range(4)))
+        self._evaluate_segment(bisect_right(self._boundary_list, local), np.array([local]), values)
+        for value, scale in zip(values[1:], scales or ()):
+            value *= scale
+        if turns:
+            values.y[0] += self.advance * turns
+        return LawValues(*(value.reshape(()) for value in values))
 
     def _end_values(self, number: int) -> LawValues:
         """Return s and its derivatives where segment number ends, as the next one sees them.
