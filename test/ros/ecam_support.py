@@ -5,16 +5,19 @@ import math
 import time
 
 import numpy as np
-from diagnostic_msgs.msg import DiagnosticArray
-from rclpy.qos import QoSProfile
+from cli.cli_support import CM, seed_000_motion
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from rclpy.qos import DurabilityPolicy, QoSProfile
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
+from std_srvs.srv import SetBool
 from test_node import Inbox
 from trajectory_msgs.msg import JointTrajectory
 
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
 
 DEEP = QoSProfile(depth=10000)  # reliable and deep: the test never loses a message
+LATCHED = QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 CHUNK = 50  # master messages sent before waiting for their commands
 WAIT_S = 20.0
 ANSWERS = ('commands', 'joints')  # what every accepted master message gets
@@ -38,6 +41,54 @@ def master_message(stamp_ns, names=('cam',), position=(0.0,), velocity=(), effor
                          effort=[float(e) for e in effort])
     message.header.stamp.sec, message.header.stamp.nanosec = divmod(int(stamp_ns), 10 ** 9)
     return message
+
+
+def constant_speed(start_ns: int, q0: float, speed: float, count: int, dt: float):
+    """Return the positions and the messages (with their speed) of a master at constant speed."""
+    q = q0 + speed * dt * np.arange(count)
+    return q, [master_message(start_ns + round(k * dt * 1e9), position=(position,),
+                              velocity=(speed,)) for k, position in enumerate(q.tolist())]
+
+
+def seed_000_follower(q, omega, master_offset: float = 0.0, slave_offset: float = 0.0):
+    """Follower position (m) and velocity of config/default.yaml at master q, speed omega.
+
+    Written out from the closed-form cycloidal rise and harmonic return (cli_support), not from
+    the package: theta = q - master offset (scaling 1), y = s(theta) + slave offset.
+    """
+    s, ds, _, _ = seed_000_motion(np.asarray(q, dtype=float) - master_offset, rise=2 * CM)
+    return s + slave_offset, ds * np.asarray(omega, dtype=float)
+
+
+def engage(executor, on: bool) -> SetBool.Response:
+    """Call /cam/engage and return the answer."""
+    client = executor.node(f'engage_{time.monotonic_ns()}').create_client(SetBool, '/cam/engage')
+    assert client.wait_for_service(timeout_sec=WAIT_S)
+    future = client.call_async(SetBool.Request(data=on))
+    deadline = time.monotonic() + WAIT_S
+    while not future.done():
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    return future.result()
+
+
+class StateWatch:
+    """The node's latched ~/state (engagement), as it changes."""
+
+    def __init__(self, link: 'MasterLink'):
+        self.inbox = Inbox(link.node, DiagnosticStatus, '/cam/state', LATCHED)
+
+    def wait(self, message: str, timeout: float = WAIT_S) -> None:
+        """Wait until the latest ~/state says message."""
+        deadline = time.monotonic() + timeout
+        while self.latest() != message:
+            assert time.monotonic() < deadline, f'~/state {self.latest()!r}, not {message!r}'
+            time.sleep(0.01)
+
+    def latest(self) -> str | None:
+        """Return the message of the last ~/state received (None: none yet)."""
+        with self.inbox.arrived:
+            return self.inbox.messages[-1].message if self.inbox.messages else None
 
 
 def stamp_of(message) -> int:
@@ -85,6 +136,22 @@ class MasterLink:
                 self.publisher.publish(message)
             for key, count in expected if answered else ():
                 self.inbox[key].wait(count, WAIT_S)
+
+    def answers(self, messages, timeout: float = WAIT_S) -> list:
+        """Wait for and return the ~/joint_states answering messages (by stamp), in their order.
+
+        Holds (stamped with the node's clock, never one of the test's master stamps) are left
+        out, so this holds wherever a master loss put one.
+        """
+        stamps = [stamp_of(message) for message in messages]
+        deadline = time.monotonic() + timeout
+        while True:
+            by_stamp = {stamp_of(m): m for m in self.messages('joints')}
+            if all(stamp in by_stamp for stamp in stamps):
+                return [by_stamp[stamp] for stamp in stamps]
+            assert time.monotonic() < deadline, (
+                f'{sum(stamp in by_stamp for stamp in stamps)} of {len(stamps)} answered')
+            time.sleep(0.01)
 
     def diagnostics(self, name: str, predicate, timeout: float = WAIT_S) -> dict:
         """Wait for a /diagnostics status named name whose values satisfy predicate."""

@@ -6,10 +6,9 @@ import time
 
 import numpy as np
 from conftest import CONFIG_DIR
-from ecam_support import ecam_design, master_message, MasterLink, RPM, WAIT_S
+from ecam_support import ecam_design, engage, master_message, MasterLink, RPM, WAIT_S
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from std_msgs.msg import UInt32
-from std_srvs.srv import SetBool
 from test_ecam import reference
 from test_node import Inbox
 
@@ -20,18 +19,6 @@ SPEED = 600 * RPM
 DISTANCE = math.radians(30.0)
 SWITCHES = ('-p', 'switches.names:=[glue]', '-p', 'switches.on_deg:=[40.0]', '-p',
             'switches.off_deg:=[100.0]', '-p', 'switches.lead_time:=[0.002]')
-
-
-def engage(executor, on: bool) -> SetBool.Response:
-    """Call /cam/engage and return the answer."""
-    client = executor.node(f'engage_{time.monotonic_ns()}').create_client(SetBool, '/cam/engage')
-    assert client.wait_for_service(timeout_sec=WAIT_S)
-    future = client.call_async(SetBool.Request(data=on))
-    deadline = time.monotonic() + WAIT_S
-    while not future.done():
-        assert time.monotonic() < deadline
-        time.sleep(0.01)
-    return future.result()
 
 
 def test_ramp_engage_onto_600_rpm_and_switch_edges_at_their_angles(start_cam_node, executor):

@@ -1,0 +1,127 @@
+"""`cam_ros replay --apply-parameters` gives a recorded e-cam run's commands back, a change too.
+
+A real node records its run while the test changes slave.offset with the master streaming at
+500 Hz (the offset then blends over 30 deg of master). The recorded master stream is replayed by
+the CLI into a fresh node: with --apply-parameters its commands are the recorded ones bit for bit;
+without, they are the old cam's after the change.
+"""
+from __future__ import annotations
+
+import math
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+from conftest import CONFIG_DIR
+from ecam_support import constant_speed, ecam_design, MasterLink, WAIT_S
+from rclpy.parameter import Parameter
+from test_node import set_parameters
+
+from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
+from cam_ros.recording import open_recording, parameter_changes
+
+DEFAULT = CONFIG_DIR / 'default.yaml'
+ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=30.0')
+START_NS = 5_000 * 10 ** 9
+DT = 0.002  # 500 Hz
+SPEED = 2 * math.pi  # 60 rpm: 0.72 deg per message
+COUNT = 600  # 1.2 s of master
+CHANGE_AFTER = 0.5  # s into the stream
+OFFSET_CM = 0.3
+
+
+def stream_in_real_time(link, messages) -> threading.Thread:
+    """Publish messages DT apart from a thread of their own (a master does not wait)."""
+    def run() -> None:
+        origin = time.monotonic()
+        for k, message in enumerate(messages):
+            time.sleep(max(0.0, origin + k * DT - time.monotonic()))
+            link.publisher.publish(message)
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
+
+
+def replay_into_fresh_node(start_cam_node, executor, path, *options: str) -> list[float]:
+    """Start a fresh node, replay the recorded master stream into it with the CLI; its commands."""
+    node, _ = start_cam_node(DEFAULT, *ECAM)
+    link = MasterLink(executor)
+    result = subprocess.run([sys.executable, '-m', 'cam_ros.cli', 'replay', str(path), '--topics',
+                             '/cam/master', '--wait', str(WAIT_S), *options],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    recorded = open_recording(path).topics['/cam/master'].count
+    assert result.stdout.startswith(f'published {recorded} messages')
+    deadline = time.monotonic() + WAIT_S  # until the last replayed message is answered
+    while len(link.messages('commands')) < recorded - 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.2)
+    assert node.stop(signal.SIGINT) == 0, node.log()
+    return [m.data[0] for m in link.messages('commands')]
+
+
+@pytest.mark.parametrize('master', [
+    'paused',  # the change is made between two master messages (the master waits for it)
+    pytest.param('streaming', marks=pytest.mark.xfail(reason=(
+        'known defect: rclpy publishes /parameter_events (logged by the recorder) before the '
+        'post-set callback hands the design to the e-cam, which first works out its diagnostics '
+        '(10-20 ms); the master messages logged in between are commanded with the old design, '
+        'so the replay applies the change some messages early'), strict=False))])
+def test_replay_with_apply_parameters_reproduces_a_recorded_run_with_a_change(
+        master, start_cam_node, executor, tmp_path, pytestconfig):
+    if master == 'streaming' and not pytestconfig.getoption('--heavy'):
+        pytest.skip('the known defect (about 15 s): --heavy')
+    folder = tmp_path / 'runs'
+    first, _ = start_cam_node(DEFAULT, *ECAM, '-p', 'recording.enabled:=true',
+                              '-p', f'recording.directory:={folder}')
+    link = MasterLink(executor)
+    link.connect(first)
+    q, stream = constant_speed(START_NS, 0.5, SPEED, COUNT, DT)
+    half = round(CHANGE_AFTER / DT)
+    if master == 'paused':
+        link.send(stream[:half])
+    else:
+        thread = stream_in_real_time(link, stream)
+        time.sleep(CHANGE_AFTER)
+    result = set_parameters(executor, [Parameter('slave.offset', value=OFFSET_CM)])
+    assert result.successful, result.reason
+    if master == 'paused':
+        link.send(stream[half:])
+    else:
+        thread.join()
+    answers = link.answers(stream)
+    assert first.stop(signal.SIGINT) == 0, first.log()
+    path = next(folder.glob('*.mcap'))
+    recording = open_recording(path)
+    commands = [m.message.data[0] for m in recording.messages(['/cam/commands'])]
+    assert commands == [m.data[0] for m in link.messages('commands')]
+    assert recording.topics['/cam/master'].count == len(commands)
+    changes = [(c.name, c.old, c.new) for c in parameter_changes(recording)
+               if not c.name.startswith('recording.')]
+    assert changes == [('slave.offset', 0.0, OFFSET_CM)]
+
+    # Before the change the old cam, after it a blend onto the new one: the run has both.
+    design = ecam_design(DEFAULT)
+    cam = ElectronicCam(design.program, MasterConfig.from_config(design.config).mapping)
+    old = cam.setpoints(q).position
+    position = np.array([m.position[1] for m in answers])
+    changed = np.flatnonzero(position != old)
+    assert 0 < changed[0] and changed[-1] == COUNT - 1
+    np.testing.assert_array_equal(position[:changed[0]], old[:changed[0]])
+    np.testing.assert_allclose(position[-1] - old[-1], OFFSET_CM * 0.01, rtol=1e-12)
+
+    replayed = replay_into_fresh_node(start_cam_node, executor, path, '--apply-parameters')
+    # The fresh node may miss the first probes (a best-effort subscription still matching the
+    # replaying publisher; each answers at rest at 0), never anything after them.
+    assert len(commands) - 3 <= len(replayed) <= len(commands)
+    assert replayed == commands[len(commands) - len(replayed):]
+
+    unchanged = replay_into_fresh_node(start_cam_node, executor, path)
+    tail = len(stream) - changed[0]
+    assert unchanged[:-tail] == commands[len(commands) - len(unchanged):-tail]
+    np.testing.assert_array_equal(unchanged[-tail:], old[changed[0]:])
