@@ -25,8 +25,9 @@ from benchmarks.report import Figure, Target
 from benchmarks.ros import DEFAULT_CONFIG, RosGraph, ServerProcess
 from benchmarks.timing import percentile_ms
 
-#: The issue's target: a 1-angle evaluate call at most 1.3 x a trivial service call (p50).
-P50_TARGET = Target('<=', 1.3)
+#: The issue's targets (issue 28): a 1-angle evaluate call at most 1.2 x a trivial service call
+#: at p50, 1.3 x at p99.
+P50_TARGET, P99_TARGET = Target('<=', 1.2), Target('<=', 1.3)
 #: Longest wait for one service answer (s); the 10^6-angle batch takes about a second.
 CALL_TIMEOUT_S = 60.0
 #: A request sent just after the client sees the service can be lost (the server may not have
@@ -187,7 +188,7 @@ def service_figures(graph: RosGraph, sizes: ServiceSizes) -> list[Figure]:
                'SetBool p50', p50['setbool'], P50_TARGET, how,
                extra={'calls': calls}),
         Figure('service_p99_ms', '/cam/evaluate, 1 angle, p99', p99['cam'], 'ms',
-               'SetBool p99', p99['setbool']),
+               'SetBool p99', p99['setbool'], P99_TARGET),
         service_figure(p50['cam_dynamics'], p50['cam'], calls),
         Figure(f'batch_{sizes.batch}_ms', f'/cam/evaluate, {sizes.batch:,} angles', batch, 'ms',
                '1-angle p50', p50['cam'],

@@ -14,6 +14,8 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _impleme
 RCLError: type[Exception] = _implementation.RCLError
 
 
-def wait_set(context: Context, subscriptions: int, guard_conditions: int) -> Any:
-    """Return an empty rcl wait set with room for this many subscriptions and guard conditions."""
-    return _implementation.WaitSet(subscriptions, guard_conditions, 0, 0, 0, 0, context.handle)
+def wait_set(context: Context, subscriptions: int, guard_conditions: int,
+             services: int = 0) -> Any:
+    """Return an empty rcl wait set with room for this many of each kind of entity."""
+    return _implementation.WaitSet(subscriptions, guard_conditions, 0, 0, services, 0,
+                                   context.handle)

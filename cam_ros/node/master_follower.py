@@ -30,7 +30,7 @@ from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConf
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.node.joints import FOLLOWER_JOINT, JOINT_NAMES
-from cam_ros.node.master_intake import MASTER_QOS, MasterIntake, refuse_rewiring, stamp_ns
+from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
 
 COMMAND_QOS = QoSProfile(depth=10)
@@ -83,8 +83,8 @@ class MasterFollower:
             node.create_subscription(JointState, values['slave.state_topic'], self._on_slave,
                                      SLAVE_QOS)
         node.create_service(SetBool, '~/engage', self._engage)
-        self._intake = MasterIntake(node, self._config.topic, self._on_master)
-        self._master_sub = self._intake.subscription
+        self._intake = master_intake(node, self._config.topic, self._on_master)
+        self._master_sub = self._intake.entity
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
         self._publish_state()

@@ -6,21 +6,17 @@ node refuses to change.
 """
 from __future__ import annotations
 
-import threading
 from typing import Any, Callable
 
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.event_handler import SubscriptionEventCallbacks
-from rclpy.exceptions import InvalidHandle
-from rclpy.guard_condition import GuardCondition
-# rclpy has no public wait set; its executors and wait_for_message use this one.
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.subscription import Subscription
 from sensor_msgs.msg import JointState
 
-from cam_ros.rclpy_gaps import wait_set
-from cam_ros.recording.intake import TakenByIntake
+from cam_ros.node.own_thread import OwnThread
 
 #: Reliable, keep last 1000: a 1 kHz master loses nothing while the node is held up for 1 s.
 #: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
@@ -48,49 +44,17 @@ def refuse_rewiring(node: Node) -> None:
     node.add_on_set_parameters_callback(check)
 
 
-class MasterIntake:
+def master_intake(node: Node, topic: str, callback: Callable[[JointState], None]
+                  ) -> OwnThread[Subscription]:
     """
     Take master messages on a thread of their own, each as soon as it arrives.
 
     The node's executor rebuilds a wait set of all its services, timers and subscriptions for
     every message; this thread waits on the master subscription alone, so a busy node adds no
-    latency between master and command. Callbacks run on this thread.
+    latency between master and command. Callbacks run on this thread; OwnThread.stop() ends it.
     """
-
-    def __init__(self, node: Node, topic: str, callback: Callable[[JointState], None]):
-        self._callback = callback
-        self._stop = threading.Event()
-        # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
-        # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
-        self.subscription = node.create_subscription(
-            JointState, topic, callback, MASTER_QOS, callback_group=TakenByIntake(),
-            event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))
-        self._wake = GuardCondition(None, None, context=node.context)
-        self._wait_set = wait_set(node.context, 1, 1)
-        self._node = node
-        self._thread = threading.Thread(target=self._run, name='master', daemon=True)
-        self._thread.start()
-
-    def _run(self) -> None:
-        subscription, wait_set = self.subscription, self._wait_set
-        try:
-            while not self._stop.is_set():
-                with subscription.handle, self._wake.handle:
-                    taken = subscription.handle.take_message(JointState, False)
-                    if taken is not None:
-                        self._callback(taken[0])
-                        continue
-                    wait_set.clear_entities()
-                    wait_set.add_subscription(subscription.handle)
-                    wait_set.add_guard_condition(self._wake.handle)
-                    wait_set.wait(-1)
-        except InvalidHandle:
-            pass  # the node went away under the thread
-
-    def stop(self) -> None:
-        """End the thread and destroy the subscription."""
-        self._stop.set()
-        self._wake.trigger()
-        self._thread.join()
-        self._node.destroy_subscription(self.subscription)
-        self._wake.destroy()
+    # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
+    # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
+    return OwnThread.subscription(
+        node, JointState, topic, callback, MASTER_QOS, 'master',
+        event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))

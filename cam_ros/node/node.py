@@ -36,6 +36,7 @@ from cam_ros.core.errors import one_line
 from cam_ros.node.master_follower import MasterFollower
 from cam_ros.node.joints import FOLLOWER_JOINT, joint_coordinates, JOINT_NAMES
 from cam_ros.node.middleware import use_shipped_profile
+from cam_ros.node.own_thread import OwnThread
 from cam_ros.node.qos_events import publisher
 from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
                                      ParameterSources, parse_command_line, plain, RECORDING_SWITCH,
@@ -118,7 +119,9 @@ class CamNode(Node):
         # Services last: once ~/evaluate is visible the node is fully built.
         self.create_service(Trigger, '~/reload', self._reload)
         self.create_service(SetBool, '~/record', self._record)
-        self.create_service(EvaluateCam, '~/evaluate', self._evaluate)
+        # On a thread of its own: the executor's wake-up over all the node's entities costs
+        # more than a one-angle answer. Thread safety: see _evaluate.
+        self._evaluator = OwnThread.service(self, EvaluateCam, '~/evaluate', self._evaluate)
         topics = sorted(pub.topic_name for pub in self.publishers
                         if pub.topic_name not in ('/rosout', '/parameter_events'))
         pace = ('per master message' if self._ecam is not None
@@ -174,13 +177,24 @@ class CamNode(Node):
     # Services -----------------------------------------------------------------------------
     def _evaluate(self, request: EvaluateCam.Request,
                   response: EvaluateCam.Response) -> EvaluateCam.Response:
+        """Answer ~/evaluate, on the service's own thread (OwnThread), not the executor's.
+
+        A parameter update (on the executor's thread) replaces self.design with a new CamDesign
+        and never changes one: the single read below gives this request one consistent design
+        (a frozen dataclass; its cached properties compute the same values on any thread).
+        """
         angles = np.frombuffer(request.angles, dtype=np.float64)
-        design = self.design
+        design = self.design  # the one read of self.design: see above
         problem = check_angles(angles, design.config.max_batch)
         if problem:
             response.success, response.message = False, problem
             return response
-        state = design.evaluate(angles)
+        try:
+            state = design.evaluate(angles)
+        except Exception as err:  # a core bug: answer and keep serving, as updates do
+            self.get_logger().error(f'evaluate failed by an internal error: {err!r}')
+            response.success, response.message = False, f'internal error: {err!r}'
+            return response
         response.position = as_float64(state.position)
         response.velocity = as_float64(state.velocity)
         response.acceleration = as_float64(state.acceleration)
@@ -219,7 +233,11 @@ class CamNode(Node):
         return response
 
     def destroy_node(self) -> None:
-        """Close a running recording (writing its summary) before the node goes away."""
+        """Stop the ~/evaluate thread, close a running recording (writing its summary), then go.
+
+        The evaluate and master threads end before the node and its entities are destroyed.
+        """
+        self._evaluator.stop()
         self._recording.stop('node shutting down')
         if self._ecam:
             self._ecam.stop()
