@@ -16,9 +16,11 @@ subscription has one executor callback per message ('bare', rclpy's usual way), 
 capacity.)
 
 Overhead: the host's main thread publishes JointState messages shaped like cam_node's state
-message at a fixed rate, in alternating rounds with nothing subscribed, with the two bare raw
-subscriptions and with a Recorder of that topic attached to the node; the figure is the mean time
-of one build-and-publish with recording on, the reference the same with nothing subscribed.
+message on the node's ~/joint_states at a fixed rate, in alternating rounds with nothing
+subscribed, with the two bare raw subscriptions and with the node's recording switch on
+(recording.enabled: its Recorder takes the node's topics in the node's process and writes them in
+a writer process); the figure is the mean time of one build-and-publish with recording on, the
+reference the same with nothing subscribed.
 """
 from __future__ import annotations
 
@@ -179,8 +181,8 @@ def throughput(graph: RosGraph, workdir: Path, sizes: RecordingSizes) -> Figure:
 def overhead(graph: RosGraph, workdir: Path, sizes: RecordingSizes) -> Figure:
     """Figure 4b: mean build-and-publish time with a Recorder on the node vs without."""
     count = max(1, round(sizes.loop_rate_hz * sizes.loop_seconds))
-    host = start_host(graph, 'publish_loop', 'loop', '/bench/joint_states',
-                      str(workdir / 'loop.mcap'), str(sizes.loop_rate_hz), str(count),
+    host = start_host(graph, 'publish_loop', 'loop', '~/joint_states',
+                      str(workdir / 'loop_recordings'), str(sizes.loop_rate_hz), str(count),
                       str(sizes.loop_rounds))
     result = host.ask()
     host.stop()
@@ -188,15 +190,17 @@ def overhead(graph: RosGraph, workdir: Path, sizes: RecordingSizes) -> Figure:
         'recording_publish_overhead', 'Publish loop with recording on', result['on']['mean_us'],
         'us', 'recording off', result['off']['mean_us'], OVERHEAD_TARGET,
         f'In the cam_node host process, the main thread builds and publishes JointState (like '
-        f'cam_node\'s state message) at {sizes.loop_rate_hz:g} Hz for {sizes.loop_seconds:g} s, '
-        f'{sizes.loop_rounds} rounds each of: nothing subscribed (off), a bare raw subscription '
-        f'on the same node with a callback per message ({result["bare"]["mean_us"]:.1f} us) or '
-        f'taken in batches like the Recorder\'s ({result["drain"]["mean_us"]:.1f} us: what any '
-        f'reader in the process costs publish()), a Recorder of the topic on the node (on; '
-        f'{result["recorded_fraction"]:.2%} of the messages written); mean time per message. '
-        f'Process CPU per message: {result["off"]["cpu_us"]:.0f} us off, '
+        f'cam_node\'s state message) on the node\'s ~/joint_states at {sizes.loop_rate_hz:g} Hz '
+        f'for {sizes.loop_seconds:g} s, {sizes.loop_rounds} rounds each of: nothing subscribed '
+        f'(off), a bare raw subscription on the same node with a callback per message '
+        f'({result["bare"]["mean_us"]:.1f} us) or taken in batches like the Recorder\'s '
+        f'({result["drain"]["mean_us"]:.1f} us: what any reader in the process costs publish()), '
+        f'the node\'s recording switch on (on: recording.enabled true; the Recorder takes the '
+        f'messages in the node\'s process and a writer process serialises, compresses and writes '
+        f'them; {result["recorded_fraction"]:.2%} of the loop\'s messages in the files); mean '
+        f'time per message. Process CPU per message: {result["off"]["cpu_us"]:.0f} us off, '
         f'{result["bare"]["cpu_us"]:.0f} us per-message, {result["drain"]["cpu_us"]:.0f} us '
-        f'batched, {result["on"]["cpu_us"]:.0f} us on.',
+        f'batched, {result["on"]["cpu_us"]:.0f} us on (the writer process not included).',
         extra=result)
 
 

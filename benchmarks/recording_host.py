@@ -13,11 +13,13 @@ Recorder's intake takes in batches, only counted (the Recorder without writing).
 'matched' line with {"matched": b} once its subscription has matched a publisher (or after
 WAIT_S), until stdin closes.
 
-``loop TOPIC PATH RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages at
-RATE_HZ on TOPIC, ROUNDS times in turn with nothing subscribed ('off'), a bare raw subscription
-with a callback per message ('bare') or taken in batches ('drain'), and a Recorder of TOPIC
-('on') on the same node; prints the time per build-and-publish and the process CPU per message of
-each, and the fraction of the 'on' messages recorded.
+``loop TOPIC FOLDER RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages
+at RATE_HZ on the node's ~/joint_states (TOPIC is ignored), ROUNDS times in turn with nothing
+subscribed ('off'), a bare raw subscription with a callback per message ('bare') or taken in
+batches ('drain'), and the node's recording switch on ('on': recording.enabled true, files in
+FOLDER, the node's own state messages recorded beside the loop's); prints the time per
+build-and-publish and the process CPU per message of each, and the fraction of the loop's 'on'
+messages recorded.
 """
 from __future__ import annotations
 
@@ -34,6 +36,7 @@ from typing import Any, Sequence
 
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 from rclpy.qos import QoSProfile
 from rclpy.utilities import remove_ros_args
@@ -42,7 +45,8 @@ from sensor_msgs.msg import JointState
 from cam_ros.node.node import CamNode, STATE_QOS
 from cam_ros.node.parameters import parse_command_line
 from cam_ros.paths import default_config_path
-from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.node.parameters import RECORDING_SWITCH
+from cam_ros.recording import open_recording, Recorder, TopicSpec
 from cam_ros.recording.intake import RawIntake, Taken
 from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
 
@@ -53,8 +57,10 @@ WAIT_S = 10.0
 #: Longest wait for the recorder to write the last messages of a publish loop (s).
 DRAIN_S = 1.0
 #: The publish loop's modes: no subscriber, bare raw subscriptions (a callback per message;
-#: taken in batches), a Recorder (all on the same node).
+#: taken in batches), the node's recording switch on (all on the same node).
 LOOP_MODES = ('off', 'bare', 'drain', 'on')
+#: frame_id of the publish loop's messages (the node's own state messages say 'cam').
+LOOP_FRAME = 'bench_loop'
 
 
 def reply(**values: Any) -> None:
@@ -117,12 +123,12 @@ def sink(node: CamNode, mode: str, topic: str, path: str) -> None:
             raise SystemExit(f'recorder failed: {recorder.error}')
 
 
-def state_message(clock_ns: int, theta: float) -> JointState:
+def state_message(clock_ns: int, theta: float, frame: str = 'cam') -> JointState:
     """Build a JointState like cam_node's state message (two joints, stamped, framed)."""
     message = JointState(name=['cam', 'follower'], position=[theta, 0.01 * math.sin(theta)],
                          velocity=[6.28, 0.0628 * math.cos(theta)])
     message.header.stamp.sec, message.header.stamp.nanosec = divmod(clock_ns, 1_000_000_000)
-    message.header.frame_id = 'cam'
+    message.header.frame_id = frame
     return message
 
 
@@ -134,22 +140,39 @@ def publish_loop(publisher: Publisher, rate_hz: float, count: int) -> tuple[list
     wake = time.perf_counter()
     for index in range(count):
         start = time.perf_counter_ns()
-        publisher.publish(state_message(time.time_ns(), index * period))
+        publisher.publish(state_message(time.time_ns(), index * period, LOOP_FRAME))
         busy.append(time.perf_counter_ns() - start)
         wake += period
         time.sleep(max(0.0, wake - time.perf_counter()))
     return busy, (time.process_time() - cpu) / count
 
 
-def loop(node: CamNode, topic: str, path: str, rate_hz: float, count: int, rounds: int) -> None:
+def switch_recording(node: CamNode, on: bool) -> None:
+    """Set recording.enabled, as `ros2 param set` would; the node's switch follows."""
+    result = node.set_parameters([Parameter(RECORDING_SWITCH, Parameter.Type.BOOL, on)])[0]
+    if not result.successful or node.get_parameter(RECORDING_SWITCH).value != on:
+        raise SystemExit(f'recording switch not {on}: {result.reason}')
+
+
+def loop_messages_recorded(folder: Path, topic: str) -> int:
+    """Return how many of the publish loop's messages the folder's recordings hold."""
+    return sum(1 for path in folder.glob('*.mcap')
+               for message in open_recording(path).messages([topic])
+               if message.message.header.frame_id == LOOP_FRAME)
+
+
+def loop(node: CamNode, topic: str, folder: str, rate_hz: float, count: int,
+         rounds: int) -> None:
     """Run the publish loop ROUNDS times in each of LOOP_MODES; print the statistics."""
-    publisher = node.create_publisher(JointState, topic, STATE_QOS)
+    node.set_parameters([Parameter('recording.directory', Parameter.Type.STRING, folder)])
+    publisher = node.create_publisher(JointState, '~/joint_states', STATE_QOS)
+    topic = publisher.topic_name
     busy: dict[str, list[int]] = {mode: [] for mode in LOOP_MODES}
     cpu: dict[str, list[float]] = {mode: [] for mode in LOOP_MODES}
-    recorded = 0
     publish_loop(publisher, rate_hz, min(count, 100))  # warm-up
-    for round_ in range(rounds):
+    for _ in range(rounds):
         for mode in LOOP_MODES:
+            subscribers = publisher.get_subscription_count()
             with ExitStack() as stack:
                 if mode == 'bare':
                     subscription = node.create_subscription(JointState, topic, ignore, BARE_QOS,
@@ -159,21 +182,17 @@ def loop(node: CamNode, topic: str, path: str, rate_hz: float, count: int, round
                     stack.callback(RawIntake(node, [(topic, JointState, BARE_QOS)],
                                              ignore_batch).stop)
                 elif mode == 'on':
-                    recorder = stack.enter_context(Recorder(
-                        node, Path(path).with_suffix(f'.{round_}.mcap'),
-                        [TopicSpec(topic, JointState, STATE_QOS)]))
+                    switch_recording(node, True)
+                    stack.callback(switch_recording, node, False)
                 if mode != 'off' and not wait_until(
-                        lambda: publisher.get_subscription_count() > 0
+                        lambda: publisher.get_subscription_count() > subscribers
                         and reader_matched(node, topic)):
                     raise SystemExit(f'{mode}: nothing matched the publisher')
                 times, seconds = publish_loop(publisher, rate_hz, count)
                 busy[mode].extend(times)
                 cpu[mode].append(seconds)
-                if mode == 'on':
-                    wait_until(lambda: recorder.message_count >= count, DRAIN_S)
-                    recorded += recorder.message_count
-            wait_until(lambda: publisher.get_subscription_count() == 0)
-    reply(recorded_fraction=recorded / (rounds * count),
+            wait_until(lambda: publisher.get_subscription_count() == subscribers)
+    reply(recorded_fraction=loop_messages_recorded(Path(folder), topic) / (rounds * count),
           **{mode: {'mean_us': statistics.fmean(busy[mode]) * 1e-3,
                     'p50_us': statistics.median(busy[mode]) * 1e-3,
                     'cpu_us': statistics.median(cpu[mode]) * 1e6} for mode in busy})

@@ -15,7 +15,7 @@ from mcap.writer import MCAP0_MAGIC, Writer
 from cam_ros.core.errors import InvalidParameter, RecordingError
 from cam_ros.recording.qos import load_qos
 from cam_ros.recording.reader import complete_prefix, open_file, surviving_records
-from cam_ros.recording.writer import bag_metadata, DEFAULT_CHUNK_SIZE, LIBRARY, PROFILE
+from cam_ros.recording.mcap_file import bag_metadata, DEFAULT_CHUNK_SIZE, LIBRARY, PROFILE
 
 
 @dataclass(frozen=True)

@@ -3,9 +3,10 @@ Record in a child process for the crash tests (run by test_robustness.py, not by
 
 Usage: recorder_child.py PATH CHUNK_SIZE [FSIZE_HEADROOM]. Publishes JointState messages whose
 position[0] is their index, one at a time, and prints a JSON line {"written": n} after each is
-recorded, forever (until killed). With FSIZE_HEADROOM, the file-size limit (RLIMIT_FSIZE) is set
-to the file's size plus that many bytes once recording runs; the child then goes on until the
-recorder fails, checks it is still alive and prints a final JSON status line.
+recorded, forever (until killed). With FSIZE_HEADROOM, the file-size limit (RLIMIT_FSIZE) of the
+recorder's writer process is set to the file's size plus that many bytes once recording runs; the
+child then goes on until the recorder fails, checks it is still alive and prints a final JSON
+status line.
 """
 
 import json
@@ -46,8 +47,8 @@ def record(node, path: str, chunk_size: int, headroom: int) -> dict:
     if headroom:
         with open(path, 'rb') as file:
             limit = file.seek(0, 2) + headroom
-        resource.setrlimit(resource.RLIMIT_FSIZE,
-                           (limit, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
+        resource.prlimit(recorder.writer_pid, resource.RLIMIT_FSIZE,
+                         (limit, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
     index = 0
     while not recorder.failed:
         publisher.publish(JointState(name=['cam'], position=[float(index)]))
