@@ -534,6 +534,9 @@ def test_one_angle_gives_the_very_numbers_of_an_array_of_angles(advancing):
     for name in ('s', 'ds', 'd2s', 'd3s'):
         np.testing.assert_array_equal([getattr(v, name) for v in one_by_one],
                                       getattr(together, name))
+    in_arrays_of_one = [cam.evaluate(np.array([[angle]])).d2s for angle in angles.tolist()]
+    np.testing.assert_array_equal(np.ravel(in_arrays_of_one), together.d2s)
     assert one_by_one[0].s.shape == () and cam.evaluate(np.float64(1.0)).s.shape == ()
+    assert in_arrays_of_one[0].shape == (1, 1)
     with pytest.raises(InvalidParameter, match='theta'):
         cam.evaluate(math.nan)

@@ -314,8 +314,10 @@ class MotionProgram:
     def _values(self, theta: npt.ArrayLike,
                 scales: tuple[float, float, float] | None) -> LawValues:
         """Return s, ds, d2s, d3s at theta, the derivatives times scales (if given)."""
-        if isinstance(theta, float) or isinstance(theta, np.ndarray) and theta.shape == ():
-            return self._value(float(theta), scales)  # one angle (a master message): no grouping
+        if isinstance(theta, float) or isinstance(theta, np.ndarray) and theta.size == 1 \
+                and theta.dtype == np.float64:  # one angle (a master message): no grouping
+            return LawValues(*(value.reshape(np.shape(theta))
+                               for value in self._value(float(np.reshape(theta, -1)[0]), scales)))
         local = self._local_angles(theta)
         turns = None
         if self.advance:
@@ -338,7 +340,7 @@ class MotionProgram:
         return LawValues(*(value.reshape(local.shape) for value in values))
 
     def _value(self, theta: float, scales: tuple[float, float, float] | None) -> LawValues:
-        """Return _values at one angle as 0-d arrays, the same numbers as an array of one."""
+        """Return _values at one angle (arrays of one), the same numbers as an array of more."""
         if not math.isfinite(theta):
             raise InvalidParameter('theta', theta, 'must be finite (rad)')
         turns, local = 0.0, theta - self.start if self.start else theta
@@ -352,7 +354,7 @@ class MotionProgram:
             value *= scale
         if turns:
             values.y[0] += self.advance * turns
-        return LawValues(*(value.reshape(()) for value in values))
+        return values
 
     def _end_values(self, number: int) -> LawValues:
         """Return s and its derivatives where segment number ends, as the next one sees them.
