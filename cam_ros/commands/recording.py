@@ -38,7 +38,8 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
            apply_parameters: bool = False) -> int:
     """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
     from cam_ros.recording import open_recording, parameter_changes, replay as replay_recording
-    from cam_ros.recording.parameter_replay import parameter_events, ParameterSchedule
+    from cam_ros.recording.parameter_replay import (at_master_messages, parameter_events,
+                                                    ParameterSchedule)
     from cam_ros.recording.parameters import PARAMETER_EVENTS_TOPIC
 
     if apply_parameters and loop:
@@ -62,7 +63,8 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
         if apply_parameters:
             def apply(event: ParameterEvent) -> None:
                 _set_atomically(node, executor, event)
-            schedule = ParameterSchedule(parameter_events(parameter_changes(recording)), apply)
+            events = parameter_events(parameter_changes(recording))
+            schedule = ParameterSchedule(at_master_messages(events, recording), apply)
         # Ctrl-C sets stop: a KeyboardInterrupt inside publish() could leave its handle held.
         previous = signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
         try:

@@ -29,6 +29,8 @@ from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConf
                                       MasterTracker, OK, read_master, STALE, WAITING)
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
+from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
+                                                MASTER_TOPIC_KEY)
 from cam_ros.node.joints import FOLLOWER_JOINT, JOINT_NAMES
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
@@ -71,7 +73,10 @@ class MasterFollower:
         self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
                                       int(values['master.velocity_window'] * 1e9))
         self._last_handover = 'none'
-        self._said: tuple[str, int | None] = ('', None)  # the last ~/state: status, switches
+        # Design changes taken, and the stamp of the last master message before the latest one:
+        # in ~/state, so a replay can make each recorded change at the same master message.
+        self._changes, self._changed_after = 0, 'none'
+        self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
         self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
         self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
@@ -117,6 +122,9 @@ class MasterFollower:
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
             # Said under the lock: the master thread cannot apply it (and say so) before.
             self._last_handover = self._follower.change(new, EngageConfig.from_parameters(values))
+            last = self._tracker.last
+            self._changes += 1
+            self._changed_after = 'none' if last is None else str(last.stamp_ns)
             self._node.get_logger().info(f'design change {self._last_handover}')
             self._publish_state()
 
@@ -243,8 +251,8 @@ class MasterFollower:
                 np.array([self._config.trajectory_horizon]), *np.array([[held], [0.0], [0.0]])))
 
     def _publish_state(self) -> None:
-        """Publish ~/state when the slave's status or the switch word changed."""
-        now = (self._follower.status, self._tracks.word)
+        """Publish ~/state when the slave's status, the switch word or the design changed."""
+        now = (self._follower.status, self._tracks.word, self._changes)
         if now != self._said:
             self._said = now
             self._state_pub.publish(self._engagement_status())
@@ -265,6 +273,9 @@ class MasterFollower:
         word = tracks.word or 0
         return self._status('engagement', level, follower.status,
                             engage_mode=follower.config.mode, periodic=follower.config.periodic,
+                            **{MASTER_TOPIC_KEY: self._master_sub.topic_name,
+                               DESIGN_CHANGES_KEY: self._changes,
+                               CHANGED_AFTER_KEY: self._changed_after},
                             switches=word, **{f'switch {name}': 'on' if word >> index & 1
                                               else 'off'
                                               for index, name in enumerate(tracks.table.names)})

@@ -2,21 +2,31 @@
 
 Each recorded /parameter_events message of a node becomes one event (one atomic set on that
 node), due before the first replayed message whose log time is not earlier than its own: the
-order in which the recorded node saw them. Deletions and recording.* are left out (a replay
-must not switch the fresh node's recording).
+order in which the recorded node saw them. An electronic cam takes a design at a master message,
+which its ~/state names (at_master_messages), so its events are due before that message instead.
+Deletions and recording.* are left out (a replay must not switch the fresh node's recording).
 """
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import NamedTuple, Optional
 
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rclpy.parameter import Parameter
 
 from cam_ros.core.config.parameters import SPECS
 from cam_ros.recording.parameters import ParameterChange
+from cam_ros.recording.reader import Recording
 
 #: Parameters a replay leaves alone.
 SKIPPED_PREFIX = 'recording.'
+#: Keys of an e-cam node's ~/state (diagnostic_msgs/DiagnosticStatus, hardware_id the node's
+#: full name): its master topic, the design changes it has taken, and the stamp (ns) of the
+#: last master message it commanded before the latest change ('none': no master message yet).
+MASTER_TOPIC_KEY = 'master_topic'
+DESIGN_CHANGES_KEY = 'design_changes'
+CHANGED_AFTER_KEY = 'design_changed_after_master_stamp_ns'
+_STATE_TYPE = 'diagnostic_msgs/msg/DiagnosticStatus'
 _ARRAYS = {'double_array': Parameter.Type.DOUBLE_ARRAY,
            'integer_array': Parameter.Type.INTEGER_ARRAY,
            'string_array': Parameter.Type.STRING_ARRAY, 'bool_array': Parameter.Type.BOOL_ARRAY}
@@ -47,6 +57,80 @@ def parameter_events(changes: Iterable[ParameterChange]) -> list[ParameterEvent]
         else:
             events.append(ParameterEvent(change.time_ns, change.node, (change,)))
     return events
+
+
+class _Mark(NamedTuple):
+    """What one recorded ~/state says of the node's design changes."""
+
+    log_time_ns: int
+    changes: int
+    after_stamp_ns: Optional[int]
+    master_topic: str
+
+
+def at_master_messages(events: Sequence[ParameterEvent],
+                       recording: Recording) -> list[ParameterEvent]:
+    """
+    Make each event of an e-cam node due before the first master message of its new design.
+
+    rclpy logs /parameter_events before the node's post-set callback hands the design to the
+    e-cam (10-20 ms later), so master messages logged in between were commanded with the old
+    design. The node's next ~/state names the last master stamp before the change: the event
+    moves to the next recorded master message. Events with no such state (no e-cam, an older
+    recording, a change before any master message) keep their time; order is kept.
+    """
+    marks = _design_marks(recording)
+    masters: dict[str, list[tuple[int, int]]] = {}  # topic: (log time, stamp) of its messages
+    moved: list[ParameterEvent] = []
+    for index, event in enumerate(events):
+        later = next((e.time_ns for e in events[index + 1:] if e.node == event.node), None)
+        mark = _mark_of(marks.get(event.node, []), event.time_ns, later)
+        time_ns = event.time_ns
+        if mark is not None and mark.after_stamp_ns is not None:
+            if mark.master_topic not in masters:
+                masters[mark.master_topic] = _stamps(recording, mark.master_topic)
+            time_ns = _next_message(masters[mark.master_topic], mark.after_stamp_ns, time_ns)
+        floor = moved[-1].time_ns if moved else time_ns
+        moved.append(replace(event, time_ns=max(floor, time_ns)))
+    return moved
+
+
+def _design_marks(recording: Recording) -> dict[str, list[_Mark]]:
+    """Return {node: its ~/state design marks in log order}."""
+    topics = [name for name, info in recording.topics.items() if info.type == _STATE_TYPE]
+    marks: dict[str, list[_Mark]] = {}
+    for recorded in recording.messages(topics):
+        values = {pair.key: pair.value for pair in recorded.message.values}
+        try:
+            after = values[CHANGED_AFTER_KEY]
+            mark = _Mark(recorded.log_time_ns, int(values[DESIGN_CHANGES_KEY]),
+                         None if after == 'none' else int(after), values[MASTER_TOPIC_KEY])
+        except (KeyError, ValueError):  # another node's status, or an older recording
+            continue
+        marks.setdefault(recorded.message.hardware_id, []).append(mark)
+    return marks
+
+
+def _mark_of(marks: list[_Mark], time_ns: int, later: Optional[int]) -> Optional[_Mark]:
+    """Return the first mark of a new design change logged from time_ns (and before later)."""
+    seen = max((mark.changes for mark in marks if mark.log_time_ns < time_ns), default=-1)
+    return next((mark for mark in marks if mark.log_time_ns >= time_ns and mark.changes > seen
+                 and (later is None or mark.log_time_ns < later)), None)
+
+
+def _stamps(recording: Recording, topic: str) -> list[tuple[int, int]]:
+    """Return (log time, header stamp) in ns of a recorded JointState topic's messages."""
+    if topic not in recording.topics:
+        return []
+    return [(recorded.log_time_ns,
+             recorded.message.header.stamp.sec * 10 ** 9 + recorded.message.header.stamp.nanosec)
+            for recorded in recording.messages([topic])]
+
+
+def _next_message(stamps: list[tuple[int, int]], after_ns: int, default_ns: int) -> int:
+    """Return the log time of the first master message after the one stamped after_ns."""
+    start = next((index + 1 for index, (_, stamp) in enumerate(stamps) if stamp == after_ns), 0)
+    return next((log_ns for log_ns, stamp in stamps[start:] if stamp > after_ns), default_ns)
 
 
 class ParameterSchedule:

@@ -118,14 +118,15 @@ def test_call_without_a_service_exits_1_after_the_timeout(ros_domain, capsys):
 
 
 def test_not_available_names_the_domain_and_similar_names(cam_node, ros_domain, capsys):
-    run = run_cli(capsys, 'call', '1', '--service', '/cma/evaluate', '--timeout', 2.0)
+    # 5 s: under load, a fresh participant can take over 2 s to discover the node's services.
+    run = run_cli(capsys, 'call', '1', '--service', '/cma/evaluate', '--timeout', 5.0)
     assert run.code == 1 and run.out == ''
-    assert run.err.startswith('cam_ros call: service /cma/evaluate is not available within 2 s '
+    assert run.err.startswith('cam_ros call: service /cma/evaluate is not available within 5 s '
                               f'(ROS_DOMAIN_ID={ros_domain}; similar services available: ')
     assert '/cam/evaluate' in run.err and len(run.err.splitlines()) == 1
-    run = run_cli(capsys, 'echo', '/cam/joint_state', '--timeout', 2.0)
+    run = run_cli(capsys, 'echo', '/cam/joint_state', '--timeout', 5.0)
     assert run.code == 1 and run.out == ''
-    assert run.err.startswith('cam_ros echo: no publisher of /cam/joint_state within 2 s '
+    assert run.err.startswith('cam_ros echo: no publisher of /cam/joint_state within 5 s '
                               f'(ROS_DOMAIN_ID={ros_domain}; similar topics available: ')
     assert '/cam/joint_states' in run.err
 

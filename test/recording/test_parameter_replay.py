@@ -1,10 +1,16 @@
 """--apply-parameters: recorded parameter events are set once each, before the right message."""
 
+from types import SimpleNamespace
+
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import ParameterType
+from sensor_msgs.msg import JointState
 
 from cam_ros.cli import main
-from cam_ros.recording import open_recording, ParameterChange, Player
-from cam_ros.recording.parameter_replay import parameter_events, ParameterSchedule
+from cam_ros.recording import open_recording, ParameterChange, Player, RecordedMessage
+from cam_ros.recording.parameter_replay import (at_master_messages, CHANGED_AFTER_KEY,
+                                                DESIGN_CHANGES_KEY, MASTER_TOPIC_KEY,
+                                                parameter_events, ParameterSchedule)
 
 from .recording_support import STREAM_TOPIC
 
@@ -62,3 +68,62 @@ def test_apply_parameters_refuses_loop(capsys, tmp_path):
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith('cam_ros replay: --apply-parameters = True')
     assert 'cannot go with --loop' in err[0]
+
+
+class _StubRecording:
+    """Decoded messages by topic, as Recording.topics/messages give them (log-time order)."""
+
+    def __init__(self, messages):
+        self._messages = sorted(messages, key=lambda m: m.log_time_ns)
+        types = {m.topic: type(m.message) for m in self._messages}
+        self.topics = {name: SimpleNamespace(type=_TYPES[kind]) for name, kind in types.items()}
+
+    def messages(self, topics):
+        return (m for m in self._messages if m.topic in set(topics))
+
+
+_TYPES = {JointState: 'sensor_msgs/msg/JointState',
+          DiagnosticStatus: 'diagnostic_msgs/msg/DiagnosticStatus'}
+
+
+def master(log_ns, stamp_ns, topic='/cam/master'):
+    message = JointState(name=['master'], position=[0.0])
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(stamp_ns, 10 ** 9)
+    return RecordedMessage(topic, message, log_ns, log_ns)
+
+
+def state(log_ns, changes, after, node='/cam', topic='/cam/master'):
+    values = {MASTER_TOPIC_KEY: topic, DESIGN_CHANGES_KEY: changes, CHANGED_AFTER_KEY: after,
+              'switches': 0}
+    message = DiagnosticStatus(hardware_id=node, values=[
+        KeyValue(key=key, value=str(value)) for key, value in values.items()])
+    return RecordedMessage(f'{node}/state', message, log_ns, log_ns)
+
+
+def test_an_ecam_change_moves_to_the_master_message_after_the_stamp_its_state_names():
+    stamps = [7 * 10 ** 9 + 4_000_000 * k for k in range(12)]  # 250 Hz, logged 10 ns apart
+    stream = [master(10 * (k + 1), stamp) for k, stamp in enumerate(stamps)]
+    recording = _StubRecording(stream + [
+        state(1, 0, 'none'),  # at start-up: no change yet
+        state(47, 1, stamps[3]),  # the first change was taken after the 4th message
+        state(63, 1, stamps[3]),  # the switch word changed: the same change, said again
+        state(66, 2, 'none'),  # taken before any master message: the event keeps its time
+        state(64, 5, stamps[0], node='/other')])  # another node's changes are not this node's
+    events = parameter_events([change(25, 'slave.offset', 0.001),  # logged before the 3rd
+                               change(26, 'lift_m', 1.0, node='/other2'),  # no mark at all
+                               change(60, 'slave.offset', 0.002),  # its mark (66) names no stamp
+                               change(71, 'slave.offset', 0.003)])  # no mark after it: kept
+    moved = at_master_messages(events, recording)
+    # The first: before the 5th message (log 50), the first commanded with the new design.
+    assert [(e.node, e.time_ns) for e in moved] == [('/cam', 50), ('/other2', 50),
+                                                    ('/cam', 60), ('/cam', 71)]
+    assert [e.changes for e in moved] == [e.changes for e in events]
+
+
+def test_a_state_that_says_nothing_of_designs_moves_nothing():
+    recording = _StubRecording([master(10, 5), master(20, 6),
+                                RecordedMessage('/diagnostics_like', DiagnosticStatus(
+                                    hardware_id='/cam', values=[KeyValue(key='switches',
+                                                                         value='0')]), 15, 15)])
+    events = parameter_events([change(12, 'slave.offset', 0.001)])
+    assert at_master_messages(events, recording) == events
