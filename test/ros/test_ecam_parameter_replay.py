@@ -36,27 +36,6 @@ CHANGE_AFTER = 0.5  # s into the stream
 OFFSET_CM = 0.3
 
 
-def stream_in_real_time(link, messages, pause_at=None,
-                        resume: threading.Event | None = None) -> threading.Thread:
-    """Publish messages DT apart from a thread of their own; before pause_at, wait for resume.
-
-    Paced, not in bursts: the replay repeats the recorded spacing into a best-effort master
-    subscription.
-    """
-    def run() -> None:
-        origin = time.monotonic()
-        for k, message in enumerate(messages):
-            if k == pause_at:
-                assert resume is not None and resume.wait(WAIT_S)
-                origin = time.monotonic() - k * DT
-            time.sleep(max(0.0, origin + k * DT - time.monotonic()))
-            link.publisher.publish(message)
-
-    thread = threading.Thread(target=run, daemon=True)
-    thread.start()
-    return thread
-
-
 def replay_into_fresh_node(start_cam_node, executor, path, *options: str) -> dict[int, float]:
     """Start a fresh node, replay the recorded master stream into it with the CLI.
 
@@ -91,10 +70,10 @@ def test_replay_with_apply_parameters_reproduces_a_recorded_run_with_a_change(
     q, stream = constant_speed(START_NS, 0.5, SPEED, COUNT, DT)
     half, resume = round(CHANGE_AFTER / DT), threading.Event()
     if master == 'paused':
-        thread = stream_in_real_time(link, stream, half, resume)
+        thread = link.stream(stream, DT, half, resume)
         link.answers(stream[:half])
     else:
-        thread = stream_in_real_time(link, stream)
+        thread = link.stream(stream, DT)
         time.sleep(CHANGE_AFTER)
     result = set_parameters(executor, [Parameter('slave.offset', value=OFFSET_CM)])
     assert result.successful, result.reason

@@ -31,7 +31,8 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
     stream = [master_message(10 ** 9 + round(ti * 1e9), position=(qi,),
                              velocity=() if k % 2 else (30.0 - 20.0 * ti,))
               for k, (ti, qi) in enumerate(zip(t.tolist(), q.tolist()))]
-    link.send(stream)
+    link.stream(stream, 0.01).join()
+    link.answers(stream)
     # /diagnostics comes about once a second: wait for one that the recording holds too.
     link.diagnostics('cam: recording', lambda values: values['message'].startswith('recording'))
     assert first.stop(signal.SIGINT) == 0, first.log()
