@@ -84,9 +84,9 @@ class MasterFollower:
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
-        if values['slave.state_topic']:
-            node.create_subscription(JointState, values['slave.state_topic'], self._on_slave,
-                                     SLAVE_QOS)
+        self._slave_topic, self._slave_dropped = values['slave.state_topic'], 0
+        if self._slave_topic:
+            node.create_subscription(JointState, self._slave_topic, self._on_slave, SLAVE_QOS)
         node.create_service(SetBool, '~/engage', self._engage)
         self._intake = master_intake(node, self._config.topic, self._on_master)
         self._master_sub = self._intake.entity
@@ -202,8 +202,11 @@ class MasterFollower:
             position, _ = read_master(FOLLOWER_JOINT, message.name, message.position,
                                       message.velocity, message.effort)
         except BadMaster as bad:
-            with self._lock:  # the master thread counts in the same tracker
-                self._tracker.drop(f'slave state: {bad.reason}')
+            with self._lock:
+                self._slave_dropped += 1
+            self._node.get_logger().warning(
+                f'dropped a {self._slave_topic} message: {bad.reason} '
+                f'({self._slave_dropped} so far)', throttle_duration_sec=5.0)
             return
         with self._lock:
             self._follower.present = position
@@ -271,14 +274,15 @@ class MasterFollower:
         level = DiagnosticStatus.OK if follower.phase in (ENGAGED, END_OF_PROFILE) or \
             not follower.wanted else DiagnosticStatus.WARN
         word = tracks.word or 0
+        switches = {f'switch {name}': 'on' if word >> index & 1 else 'off'
+                    for index, name in enumerate(tracks.table.names)}
         return self._status('engagement', level, follower.status,
                             engage_mode=follower.config.mode, periodic=follower.config.periodic,
                             **{MASTER_TOPIC_KEY: self._master_sub.topic_name,
                                DESIGN_CHANGES_KEY: self._changes,
                                CHANGED_AFTER_KEY: self._changed_after},
-                            switches=word, **{f'switch {name}': 'on' if word >> index & 1
-                                              else 'off'
-                                              for index, name in enumerate(tracks.table.names)})
+                            slave_state_topic=self._slave_topic or 'none',
+                            slave_states_dropped=self._slave_dropped, switches=word, **switches)
 
     def _status(self, what: str, level: bytes, message: str, **values: Any) -> DiagnosticStatus:
         return DiagnosticStatus(

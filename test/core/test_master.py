@@ -66,14 +66,6 @@ def test_setpoints_broadcast_over_arrays_like_single_samples():
             assert getattr(together, field)[index] == getattr(alone, field)
 
 
-def test_points_ahead_keep_the_master_speed():
-    times = np.linspace(0.01, 0.1, 10)
-    ahead = CAM.ahead(2.0, 30.0, times)
-    expected = CAM.setpoints(2.0 + 30.0 * times, 30.0, 0.0)
-    np.testing.assert_array_equal(ahead.position, expected.position)
-    np.testing.assert_array_equal(ahead.acceleration, expected.acceleration)
-
-
 def test_parameters_convert_to_si(tmp_path):
     values = read_parameters_file(DEFAULT)  # length_unit cm
     values.update({'master.offset_deg': 90.0, 'master.scaling': 2.0, 'slave.offset': 1.5,

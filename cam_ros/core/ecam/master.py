@@ -119,10 +119,6 @@ class ElectronicCam:
         """Return the setpoints at master positions, speeds and accelerations (broadcast)."""
         return chain_rule(self.mapping.cam_angle(master), self.derivatives(master), omega, alpha)
 
-    def ahead(self, master: float, omega: float, times: npt.ArrayLike) -> Setpoints:
-        """Return the setpoints at times (s) from now if the master keeps its speed omega."""
-        return self.setpoints(master + omega * np.asarray(times, dtype=float), omega, 0.0)
-
 
 @dataclass(frozen=True)
 class MasterConfig:
