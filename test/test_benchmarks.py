@@ -63,6 +63,9 @@ def test_benchmarks_run_on_tiny_sizes_and_write_sane_results(tmp_path: Path) -> 
         assert (figure['met'] is None) == (key not in TARGETED), key
     assert results['figures']['node_peak_rss_batch_1000_mib']['value'] >= \
         results['figures']['node_peak_rss_mib']['value']
+    ecam = results['figures']['ecam_latency_p50_ms']  # says how loaded the machine was
+    assert (f"cam_node {ecam['extra']['cpu_us_per_message']:.0f} us, relay "
+            f"{ecam['extra']['relay_cpu_us_per_message']:.0f} us") in ecam['note']
 
     assert markdown_path.read_text() == table
     rows = [line for line in table.splitlines() if line.startswith('| ')]
