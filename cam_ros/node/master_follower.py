@@ -75,7 +75,8 @@ class MasterFollower:
         self._last_handover = 'none'
         # Design changes taken, and the stamp of the last master message before the latest one:
         # in ~/state, so a replay can make each recorded change at the same master message.
-        self._changes, self._changed_after = 0, 'none'
+        self._changes = 0
+        self._changed_after: int | None = None
         self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
         self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
@@ -124,7 +125,7 @@ class MasterFollower:
             self._last_handover = self._follower.change(new, EngageConfig.from_parameters(values))
             last = self._tracker.last
             self._changes += 1
-            self._changed_after = 'none' if last is None else str(last.stamp_ns)
+            self._changed_after = None if last is None else last.stamp_ns
             self._node.get_logger().info(f'design change {self._last_handover}')
             self._publish_state()
 
@@ -280,7 +281,8 @@ class MasterFollower:
                             engage_mode=follower.config.mode, periodic=follower.config.periodic,
                             **{MASTER_TOPIC_KEY: self._master_sub.topic_name,
                                DESIGN_CHANGES_KEY: self._changes,
-                               CHANGED_AFTER_KEY: self._changed_after},
+                               CHANGED_AFTER_KEY: ('none' if self._changed_after is None
+                                                   else self._changed_after)},
                             slave_state_topic=self._slave_topic or 'none',
                             slave_states_dropped=self._slave_dropped, switches=word, **switches)
 

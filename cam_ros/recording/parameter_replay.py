@@ -13,6 +13,7 @@ from typing import NamedTuple, Optional
 
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rclpy.parameter import Parameter
+from rclpy.time import Time
 
 from cam_ros.core.config.parameters import SPECS
 from cam_ros.recording.parameters import ParameterChange
@@ -122,8 +123,7 @@ def _stamps(recording: Recording, topic: str) -> list[tuple[int, int]]:
     """Return (log time, header stamp) in ns of a recorded JointState topic's messages."""
     if topic not in recording.topics:
         return []
-    return [(recorded.log_time_ns,
-             recorded.message.header.stamp.sec * 10 ** 9 + recorded.message.header.stamp.nanosec)
+    return [(recorded.log_time_ns, Time.from_msg(recorded.message.header.stamp).nanoseconds)
             for recorded in recording.messages([topic])]
 
 
