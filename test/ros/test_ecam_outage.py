@@ -74,6 +74,7 @@ def test_master_outage_holds_then_the_return_engages_in_the_mode(
     assert engagement['message'] == 'holding: master lost'
     assert engagement['engage_mode'] == mode
     assert len(link.messages('commands')) == commands + 1  # said once
+    states.wait('holding: master lost')  # ~/state may arrive after the diagnostics
     seen = len(states.inbox.messages) - 1  # the states from the hold on
 
     # The master returns two turns on, at another angle and speed.
