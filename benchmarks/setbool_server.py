@@ -4,6 +4,8 @@ Serve a trivial std_srvs/SetBool service: the reference for the cam node's servi
 Run as ``python -m benchmarks.setbool_server --ros-args -r __node:=NAME``; serves
 ``/NAME/set_bool`` with a SingleThreadedExecutor, answering success = request.data, until SIGINT
 or SIGTERM.
+Served as cam_node is (serve_over_udp: UDP only), so the ratio measures the node, not the
+transport.
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from rclpy.node import Node
 from std_srvs.srv import SetBool
 
 from benchmarks.spin import spin_until_shutdown
+from cam_ros.node.middleware import serve_over_udp
 
 
 def answer(request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
@@ -25,6 +28,7 @@ def answer(request: SetBool.Request, response: SetBool.Response) -> SetBool.Resp
 
 def main(args: Sequence[str] | None = None) -> int:
     """Serve ~/set_bool until Ctrl-C or SIGTERM."""
+    serve_over_udp()
     rclpy.init(args=list(sys.argv if args is None else args))
     node = Node('setbool_server')
     node.create_service(SetBool, '~/set_bool', answer)

@@ -35,7 +35,7 @@ from cam_ros.core.config.parameters import PARAMETERS, SPECS
 from cam_ros.core.errors import one_line
 from cam_ros.node.master_follower import MasterFollower
 from cam_ros.node.joints import FOLLOWER_JOINT, joint_coordinates, JOINT_NAMES
-from cam_ros.node.middleware import use_shipped_profile
+from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.own_thread import OwnThread
 from cam_ros.node.qos_events import publisher
 from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
@@ -337,7 +337,10 @@ def main(args: Sequence[str] | None = None) -> int:
     if command.user_args:
         return _invalid(f'unrecognized arguments: {" ".join(command.user_args)} '
                         '(see cam_node --help)')
-    use_shipped_profile()
+    try:
+        serve_over_udp()
+    except CamError as err:
+        return _invalid(str(err))
     problem = start_rclpy(command.ros_args)
     if problem:  # a bad remapping or logging argument
         return _invalid(f'invalid ROS arguments: {problem}')

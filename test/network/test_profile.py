@@ -1,14 +1,18 @@
-"""The shipped Fast DDS profile: who applies it, and that Fast DDS accepts it."""
+"""The shipped Fast DDS profile: who applies it, that Fast DDS accepts it, and cam_node's UDP-only
+participant (Fast DDS 2.14's shared memory deadlocks a sender whose peer died mid-message)."""
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+from pathlib import Path
 import xml.etree.ElementTree as ET
 
 import pytest
 
-from cam_ros.node.middleware import PROFILE_VARIABLES, use_shipped_profile
+from cam_ros.core import CamError
+from cam_ros.node.middleware import PROFILE_VARIABLES, serve_over_udp, use_shipped_profile
 from cam_ros.paths import fastdds_profile_path
 
 from .conftest import DEFAULT
@@ -84,3 +88,101 @@ def test_cam_node_loads_the_profile_without_a_parse_error(ros_domain, tmp_path, 
         output = node_output({}, ros_domain)
         assert 'serving /cam/evaluate' in output
         assert 'XMLPARSER' not in output, output
+
+
+def default_profiles(path: str | Path) -> dict[str, ET.Element]:
+    """Return a profile file's default profiles by kind (participant, data_writer, ...)."""
+    return {element.tag.removeprefix(NAMESPACE): element
+            for element in ET.parse(path).getroot().iter()
+            if element.get('is_default_profile') == 'true'}
+
+
+def udp_only(path: str) -> ET.Element:
+    """Check a written profile: the shipped endpoints plus a participant with UDPv4 alone."""
+    profiles, shipped = default_profiles(path), default_profiles(fastdds_profile_path())
+    for kind in ('data_writer', 'data_reader'):
+        assert ET.tostring(profiles[kind]) == ET.tostring(shipped[kind])
+    participant = profiles['participant']
+    assert participant.findtext(f'.//{NAMESPACE}useBuiltinTransports') == 'false'
+    used = [element.text for element in participant.iter(f'{NAMESPACE}transport_id')]
+    kinds = {descriptor.findtext(f'{NAMESPACE}transport_id'):
+             descriptor.findtext(f'{NAMESPACE}type')
+             for descriptor in ET.parse(path).getroot().iter(f'{NAMESPACE}transport_descriptor')}
+    assert len(used) == 1 and kinds[used[0]] == 'UDPv4', (used, kinds)
+    return participant
+
+
+def test_localhost_becomes_the_same_discovery_over_udp_alone():
+    # rmw_fastrtps adds shared memory under LOCALHOST, whatever the profile: the node asks for
+    # the system default and its profile says what LOCALHOST means (rmw_fastrtps participant.cpp).
+    for localhost in ({'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'},
+                      {'ROS_LOCALHOST_ONLY': '1'}):
+        environ = dict(localhost, ROS_STATIC_PEERS='127.0.0.2; localhost')
+        serve_over_udp(environ)
+        assert environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'SYSTEM_DEFAULT'
+        assert 'ROS_LOCALHOST_ONLY' not in environ
+        participant = udp_only(environ['FASTRTPS_DEFAULT_PROFILES_FILE'])
+        builtin = participant.find(f'.//{NAMESPACE}builtin')
+        peers = [element.text for element in
+                 builtin.find(f'{NAMESPACE}initialPeersList').iter(f'{NAMESPACE}address')]
+        assert peers == ['127.0.0.1', '127.0.0.2', '127.0.0.1']
+        assert builtin.find(f'{NAMESPACE}metatrafficUnicastLocatorList') is not None
+        assert builtin.find(f'{NAMESPACE}metatrafficMulticastLocatorList') is None
+
+
+def test_other_ranges_keep_their_discovery_and_lose_shared_memory():
+    for environ in ({}, {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET', 'ROS_STATIC_PEERS': 'x.y'},
+                    {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'OFF'}):
+        given = dict(environ)
+        serve_over_udp(environ)
+        assert environ == dict(given, FASTRTPS_DEFAULT_PROFILES_FILE=environ[
+            'FASTRTPS_DEFAULT_PROFILES_FILE'])  # rmw_fastrtps applies range and peers itself
+        assert udp_only(environ['FASTRTPS_DEFAULT_PROFILES_FILE']).find(
+            f'.//{NAMESPACE}builtin') is None
+
+
+def test_a_chosen_profile_keeps_shared_memory_and_a_bad_peer_is_named():
+    for name in PROFILE_VARIABLES:
+        environ = {name: '/etc/my_profile.xml', 'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}
+        serve_over_udp(environ)
+        assert environ == {name: '/etc/my_profile.xml', 'ROS_AUTOMATIC_DISCOVERY_RANGE':
+                           'LOCALHOST'}
+    environ = {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
+               'ROS_STATIC_PEERS': '127.0.0.2;no-such-host.invalid'}
+    with pytest.raises(CamError, match="ROS_STATIC_PEERS: cannot resolve 'no-such-host.invalid'"):
+        serve_over_udp(environ)
+
+
+def transport_threads(profile_env: dict[str, str], ros_domain: int) -> set[str]:
+    """Start cam_node under LOCALHOST, return its threads' names once it serves, stop it."""
+    env = {key: value for key, value in os.environ.items() if key not in PROFILE_VARIABLES}
+    env.update(profile_env, ROS_DOMAIN_ID=str(ros_domain),
+               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    process = subprocess.Popen([sys.executable, '-m', 'cam_ros.node', '--ros-args',
+                                '--params-file', str(DEFAULT)], env=env, text=True,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    try:
+        assert any('serving /cam/evaluate' in line for line in process.stdout)
+        tasks = Path(f'/proc/{process.pid}/task')
+        names = {(task / 'comm').read_text().strip() for task in tasks.iterdir()}
+        process.send_signal(signal.SIGINT)
+        process.communicate(timeout=START_TIMEOUT_S)
+        return names
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+
+
+def test_cam_node_has_no_shared_memory_transport(ros_domain, start_cam_node):
+    # Fast DDS names its transport threads dds.udp.<port>, dds.shm.<port> and dds.shm.wdog.
+    shipped = transport_threads({}, ros_domain)
+    assert any(name.startswith('dds.udp.') for name in shipped), shipped
+    assert not any(name.startswith('dds.shm') for name in shipped), shipped
+    # The check can fail: with the user's own profile the node has shared memory as before.
+    chosen = transport_threads({'FASTRTPS_DEFAULT_PROFILES_FILE': str(fastdds_profile_path())},
+                               ros_domain)
+    assert 'dds.shm.wdog' in chosen, chosen
+    # A client with both transports (this process: LOCALHOST) is answered over UDP.
+    process, client = start_cam_node(DEFAULT)
+    assert process.process.poll() is None and client.service_is_ready()
