@@ -8,7 +8,8 @@ files).
 from .config.parameters import PARAMETERS
 from .config.params_file import read_parameters_file
 from .config.schema import CamConfig, load_config, parse_parameters
-from .design import CamDesign, CamState, build_design, check_angles
+from .design import CamDesign, CamState, check_angles
+from .design_from_config import build_design
 from .dynamics.follower import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError
 from .geometry.cam_geometry import CamGeometry, cam_geometry
@@ -18,7 +19,8 @@ from .geometry.followers import (Follower, OscillatingFlat, OscillatingRoller, T
 from .geometry.sizing import (BaseRadiusEstimate, BaseRadiusSizing, estimate_base_radius,
                               size_base_radius)
 from .motion.laws import LAWS, LawValues, MotionLaw, make_law
-from .motion.program import Discontinuity, MotionProgram, ProgramValues, Segment
+from .motion.program import Discontinuity, MotionProgram, ProgramValues
+from .motion.segment import Segment
 
 __all__ = [
     'BaseRadiusEstimate', 'BaseRadiusSizing', 'CamConfig', 'CamDesign', 'CamError',

@@ -18,7 +18,8 @@ from .extremes import CHECK_SAMPLES
 from .dynamics.report import DynamicsReport
 from .geometry.followers import TranslatingRoller
 from .geometry.joint_sizing import SmallestCam, smallest_cam
-from .motion.program import Discontinuity, SegmentSummary
+from .motion.program import Discontinuity
+from .motion.segment import SegmentSummary
 from .geometry.sizing import BaseRadiusEstimate, estimate_base_radius, size_base_radius
 
 

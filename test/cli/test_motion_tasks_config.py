@@ -20,7 +20,7 @@ from cli_support import assert_one_error_line, CONFIG_DIR, FOLLOWERS, load_param
 
 from cam_ros.commands.common import load_design
 from cam_ros.core.errors import InvalidParameter
-from cam_ros.core.motion.program import segment_values
+from cam_ros.core.motion.segment import segment_values
 
 FLYING_SHEAR = CONFIG_DIR / 'flying_shear.yaml'
 MM = 1e-3

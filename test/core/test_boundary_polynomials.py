@@ -21,7 +21,8 @@ from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion._polynomial import Poly5, Poly7
 from cam_ros.core.motion.laws import (ConstantAcceleration, ConstantVelocity, LAWS, make_law,
                                       Polynomial345, Polynomial4567)
-from cam_ros.core.motion.program import motion_task, MotionProgram, Segment, segment_values
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import motion_task, Segment, segment_values
 from cam_ros.core.motion.tasks import build_segments, TaskSpec
 from motion_task_references import (assert_close, deg, derivative_coefficients, EXACT_RTOL,
                                     EXAMPLES, gg_program, NAN, peak, PEAK_RTOL, polynomial_system,

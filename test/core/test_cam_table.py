@@ -10,7 +10,8 @@ from cam_ros.core.ecam.cam_table import (equidistant_table, interpolate, MAX_POI
                                          tolerance_table)
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 deg = math.radians
 RISE = 0.02  # m, seed 000

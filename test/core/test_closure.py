@@ -19,7 +19,8 @@ from cam_ros.core.geometry.closure import (conjugate_follower, constant_breadth,
 from cam_ros.core.geometry.followers import TranslatingFlat, TranslatingRoller
 from cam_ros.core.geometry.machining import cam_contour
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 DEG = math.pi / 180
 MM = 1e-3

@@ -12,7 +12,8 @@ from cam_ros.core.geometry.followers import TranslatingFlat, TranslatingRoller
 from cam_ros.core.geometry.cam_geometry import cam_geometry
 from cam_ros.core.geometry.check import check_geometry
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 import numpy as np
 import pytest
 

@@ -9,7 +9,8 @@ import pytest
 from cam_ros.core.ecam.handover import agreement, Handover, POSITION_TOLERANCE, SLOPE_TOLERANCE
 from cam_ros.core.motion.laws import Cycloidal, Dwell, SimpleHarmonic
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 deg = math.radians
 MAPPING = CamMapping()

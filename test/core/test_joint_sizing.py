@@ -21,7 +21,8 @@ from cam_ros.core.geometry.followers import OscillatingRoller, TranslatingRoller
 from cam_ros.core.geometry.joint_sizing import smallest_cam
 from cam_ros.core.geometry.sizing import size_base_radius
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 DEG = math.pi / 180
 CM = 0.01

@@ -18,7 +18,8 @@ from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller,
 from cam_ros.core.geometry.machining import (cam_contour, check_cutter, place_points,
                                              smallest_concave_radius)
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 DEG = math.pi / 180
 MM = 1e-3

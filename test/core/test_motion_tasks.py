@@ -20,7 +20,8 @@ import pytest
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.inflection import inflected, InflectedLaw
 from cam_ros.core.motion.laws import Cycloidal, Dwell, LAWS, make_law
-from cam_ros.core.motion.program import MotionProgram, segment_values
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import segment_values
 from cam_ros.core.motion.tasks import build_segments, TaskSpec
 from motion_task_references import (assert_close, deg, EXACT_RTOL, FD_RTOL, FD_STEP, GG_POSITION,
                                     gg_program, GG_SPAN, GG_START, GG_STROKE, GG_VELOCITY,

@@ -10,7 +10,8 @@ from cam_ros.core.arrays import BLOCK
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.laws import (ConstantAcceleration, ConstantVelocity, Cycloidal, Dwell,
                                       make_law, Polynomial4567, SimpleHarmonic, ViaPointLaw)
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 
 PI = math.pi
 deg = math.radians

@@ -10,7 +10,8 @@ import math
 from cam_motions import cycloidal, rise_return, seed_000
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram, Segment
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
 from cam_ros.core.geometry.cam_geometry import cam_geometry

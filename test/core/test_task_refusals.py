@@ -18,7 +18,8 @@ from scipy.optimize import minimize_scalar
 
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.motion.laws import ConstantVelocity, Cycloidal, Dwell, Polynomial4567
-from cam_ros.core.motion.program import MotionProgram, Segment, segment_values
+from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment, segment_values
 from cam_ros.core.motion.tasks import build_segments, TaskSpec
 from motion_task_references import (deg, EXACT_RTOL, gg_program, GG_SPAN, GG_STROKE, GG_VELOCITY,
                                     NAN, PEAK_RTOL, PI, REFERENCE_SAMPLES, REFINE_XATOL, TWO_PI)

@@ -23,7 +23,8 @@ from numpy.polynomial import polynomial
 
 from ..errors import InvalidParameter
 from ..motion.laws import ConstantVelocity, Dwell, PolynomialShape
-from ..motion.program import is_jump, MotionProgram, Segment
+from ..motion.program import MotionProgram
+from ..motion.segment import is_jump, Segment
 from .vibration import TrainConfig
 
 #: Derivatives of s that must be continuous everywhere for the compensated cam to be smooth.

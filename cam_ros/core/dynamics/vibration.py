@@ -32,7 +32,8 @@ from ..arrays import FloatArray
 from ..extremes import refine_extrema
 from ..errors import InvalidParameter
 from ..motion.laws import MotionLaw
-from ..motion.program import motion_task, MotionProgram
+from ..motion.program import MotionProgram
+from ..motion.segment import motion_task
 
 #: VDI 2149: the rigid model holds when the train's natural frequency is this many times the
 #: cam frequency or more.

@@ -24,7 +24,7 @@ from ..errors import InvalidParameter
 from ._polynomial import BoundaryPolynomial, Poly5, Poly7
 from .inflection import inflected
 from .laws import Dwell, MotionLaw
-from .program import (check_fields, motion_task, natural_scale, Segment, segment_values,
+from .segment import (check_fields, motion_task, natural_scale, Segment, segment_values,
                       velocity_extremes)
 
 #: The boundary polynomials by name, and what the end fields are called.
