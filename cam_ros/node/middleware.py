@@ -69,9 +69,10 @@ def serve_over_udp(environ: MutableMapping[str, str] = os.environ) -> None:
     if any(name in environ for name in PROFILE_VARIABLES):
         return
     builtin = ''
-    if _discovery_range(environ) == 'LOCALHOST':
-        peers = ['127.0.0.1'] + [_ipv4(peer) for peer in
-                                 environ.get('ROS_STATIC_PEERS', '').split(';') if peer.strip()]
+    localhost_only = environ.get('ROS_LOCALHOST_ONLY') == '1'  # rcl: prevails, no static peers
+    if localhost_only or _discovery_range(environ) == 'LOCALHOST':
+        given = [] if localhost_only else environ.get('ROS_STATIC_PEERS', '').split(';')
+        peers = ['127.0.0.1'] + [_ipv4(peer) for peer in given if peer.strip()]
         builtin = LOCALHOST_DISCOVERY.format(peers=''.join(PEER.format(peer) for peer in peers))
         environ[RANGE_VARIABLE] = 'SYSTEM_DEFAULT'
         environ.pop('ROS_LOCALHOST_ONLY', None)
@@ -82,11 +83,11 @@ def serve_over_udp(environ: MutableMapping[str, str] = os.environ) -> None:
 
 
 def _discovery_range(environ: MutableMapping[str, str]) -> str:
-    """Return the discovery range rcl will use (ROS_LOCALHOST_ONLY=1 is Jazzy's old LOCALHOST)."""
-    chosen = environ.get(RANGE_VARIABLE, '').strip().upper()
-    if not chosen and environ.get('ROS_LOCALHOST_ONLY') == '1':
-        return 'LOCALHOST'
-    return chosen or 'SUBNET'
+    """Return the discovery range rcl reads from the environment (an unknown value: LOCALHOST)."""
+    chosen = environ.get(RANGE_VARIABLE, '')
+    if not chosen:
+        return 'SUBNET'
+    return chosen if chosen in ('OFF', 'LOCALHOST', 'SUBNET', 'SYSTEM_DEFAULT') else 'LOCALHOST'
 
 
 def _ipv4(peer: str) -> str:
@@ -98,10 +99,11 @@ def _ipv4(peer: str) -> str:
 
 
 def _written(profile: str) -> Path:
-    """Write profile once to a file named by its content (shared by every node that needs it)."""
+    """Write profile to a file named by its content, shared by the nodes that need it (a file
+    of that name with other content, in a temp folder others can write, is replaced)."""
     digest = hashlib.sha256(profile.encode()).hexdigest()[:16]
     path = Path(tempfile.gettempdir()) / f'cam_ros_fastdds_{digest}.xml'
-    if not path.exists():
+    if not (path.is_file() and path.read_bytes() == profile.encode()):
         try:
             with tempfile.NamedTemporaryFile('w', dir=path.parent, delete=False,
                                              suffix='.xml') as partial:

@@ -115,8 +115,12 @@ def udp_only(path: str) -> ET.Element:
 def test_localhost_becomes_the_same_discovery_over_udp_alone():
     # rmw_fastrtps adds shared memory under LOCALHOST, whatever the profile: the node asks for
     # the system default and its profile says what LOCALHOST means (rmw_fastrtps participant.cpp).
-    for localhost in ({'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'},
-                      {'ROS_LOCALHOST_ONLY': '1'}):
+    # rcl (Jazzy): an unknown range means LOCALHOST; ROS_LOCALHOST_ONLY=1 prevails over the
+    # range and drops the static peers.
+    cases = [({'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}, ['127.0.0.2', '127.0.0.1']),
+             ({'ROS_AUTOMATIC_DISCOVERY_RANGE': 'localhost'}, ['127.0.0.2', '127.0.0.1']),
+             ({'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET', 'ROS_LOCALHOST_ONLY': '1'}, [])]
+    for localhost, static in cases:
         environ = dict(localhost, ROS_STATIC_PEERS='127.0.0.2; localhost')
         serve_over_udp(environ)
         assert environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'SYSTEM_DEFAULT'
@@ -125,14 +129,26 @@ def test_localhost_becomes_the_same_discovery_over_udp_alone():
         builtin = participant.find(f'.//{NAMESPACE}builtin')
         peers = [element.text for element in
                  builtin.find(f'{NAMESPACE}initialPeersList').iter(f'{NAMESPACE}address')]
-        assert peers == ['127.0.0.1', '127.0.0.2', '127.0.0.1']
+        assert peers == ['127.0.0.1', *static], localhost
         assert builtin.find(f'{NAMESPACE}metatrafficUnicastLocatorList') is not None
         assert builtin.find(f'{NAMESPACE}metatrafficMulticastLocatorList') is None
 
 
+def test_a_tampered_profile_file_is_replaced():
+    environ: dict[str, str] = {}
+    serve_over_udp(environ)
+    path = Path(environ['FASTRTPS_DEFAULT_PROFILES_FILE'])
+    written = path.read_text()
+    path.write_text(written.replace('UDPv4', 'SHM'))
+    again: dict[str, str] = {}
+    serve_over_udp(again)
+    assert again == environ and path.read_text() == written
+
+
 def test_other_ranges_keep_their_discovery_and_lose_shared_memory():
     for environ in ({}, {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET', 'ROS_STATIC_PEERS': 'x.y'},
-                    {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'OFF'}):
+                    {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'OFF'}, {'ROS_LOCALHOST_ONLY': '0'},
+                    {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SYSTEM_DEFAULT'}):
         given = dict(environ)
         serve_over_udp(environ)
         assert environ == dict(given, FASTRTPS_DEFAULT_PROFILES_FILE=environ[
