@@ -2,8 +2,9 @@
 Host a Recorder on a cam_node in its own process, for the recorder benchmarks.
 
 Run as ``python -m benchmarks.recording_host COMMAND ARGS... --ros-args -r __node:=NAME
---params-file CONFIG``: builds the real CamNode, spins it with a SingleThreadedExecutor in a
-background thread (as rclpy.spin would) and talks JSON lines over stdin/stdout.
+--params-file CONFIG``: builds the real CamNode, served as cam_node is (UDP alone), spins it with
+a SingleThreadedExecutor in a background thread (as rclpy.spin would) and talks JSON lines over
+stdin/stdout.
 
 ``sink MODE TOPIC PATH``: MODE 'recorder' attaches a Recorder of TOPIC (sensor_msgs/JointState,
 offered with cam_node's state QoS) writing to PATH; MODE 'bare' a raw subscription that only
@@ -42,6 +43,7 @@ from rclpy.qos import QoSProfile
 from rclpy.utilities import remove_ros_args
 from sensor_msgs.msg import JointState
 
+from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.node import CamNode, STATE_QOS
 from cam_ros.node.parameters import parse_command_line
 from cam_ros.paths import default_config_path
@@ -202,6 +204,7 @@ def main(args: Sequence[str] | None = None) -> int:
     """Start the cam node, spin it in a thread and run the requested command."""
     argv = list(sys.argv if args is None else args)
     command, *rest = remove_ros_args(argv)[1:]
+    serve_over_udp()
     rclpy.init(args=argv)
     node = CamNode(parse_command_line(argv, default_config_path()).sources)
     executor = SingleThreadedExecutor()

@@ -53,6 +53,26 @@ def pytest_addoption(parser: pytest.Parser) -> None:
                      help='reliability tests: run the full (minutes) instead of the short version')
 
 
+@pytest.fixture(autouse=True)
+def middleware_environment_kept() -> Iterator[None]:
+    """
+    Undo what an in-process cam_ros command writes to os.environ: the Fast DDS profile.
+
+    A command run by a test (cam_ros.commands.ros) points FASTRTPS_DEFAULT_PROFILES_FILE at the
+    shipped profile, as it would in its own process; left set, every node a later test starts
+    would take it for the user's choice and keep shared memory (cam_ros.node.middleware).
+    """
+    from cam_ros.node.middleware import PROFILE_VARIABLES
+
+    saved = {name: os.environ.get(name) for name in PROFILE_VARIABLES}
+    yield
+    for name, value in saved.items():
+        if value is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = value
+
+
 @pytest.fixture(scope='session')
 def ros_domain() -> Iterator[int]:
     """Reserve a DDS domain id for this test process and export it to subprocesses."""

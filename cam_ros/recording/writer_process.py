@@ -173,8 +173,14 @@ def _say(answers: BinaryIO, answer: tuple[Any, ...]) -> None:
 def main() -> int:
     """Serve the node on stdin/stdout, writing to the file descriptor given as argument."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the node closes it; Ctrl-C is for the node
-    with os.fdopen(int(sys.argv[1]), 'wb') as file:
+    file = os.fdopen(int(sys.argv[1]), 'wb')
+    try:
         return serve(file, sys.stdin.buffer, sys.stdout.buffer)
+    finally:
+        try:
+            file.close()
+        except OSError:  # serve told the node of the failed write; the buffered rest fails too
+            pass
 
 
 if __name__ == '__main__':
