@@ -54,8 +54,8 @@ PEER = '            <locator><udpv4><address>{}</address></udpv4></locator>\n'
 
 
 def use_shipped_profile(environ: MutableMapping[str, str] = os.environ) -> None:
-    """Point Fast DDS at config/fastdds.xml unless the user set either variable (even to '')."""
-    if not any(name in environ for name in PROFILE_VARIABLES):
+    """Point Fast DDS at config/fastdds.xml unless the user chose a profile."""
+    if not _user_chose_profile(environ):
         environ[PROFILE_VARIABLES[0]] = str(fastdds_profile_path())
 
 
@@ -66,7 +66,7 @@ def serve_over_udp(environ: MutableMapping[str, str] = os.environ) -> None:
     A user who set either profile variable keeps it, shared memory and all. Raises CamError for a
     static peer that does not resolve (as rmw_fastrtps refuses it) or an unwritable temp folder.
     """
-    if any(name in environ for name in PROFILE_VARIABLES):
+    if _user_chose_profile(environ):
         return
     builtin = ''
     localhost_only = environ.get('ROS_LOCALHOST_ONLY') == '1'  # rcl: prevails, no static peers
@@ -80,6 +80,11 @@ def serve_over_udp(environ: MutableMapping[str, str] = os.environ) -> None:
     profile = shipped.replace('  <profiles>\n', '  <profiles>\n' + UDP_TRANSPORT + PARTICIPANT
                               .format(builtin=builtin), 1)
     environ[PROFILE_VARIABLES[0]] = str(_written(profile))
+
+
+def _user_chose_profile(environ: MutableMapping[str, str]) -> bool:
+    """Return whether the user set either profile variable (even to '')."""
+    return any(name in environ for name in PROFILE_VARIABLES)
 
 
 def _discovery_range(environ: MutableMapping[str, str]) -> str:

@@ -10,6 +10,7 @@ died: it exits at once without a summary, as a killed recorder would.
 It runs STARTER with the new file's descriptor (opened by the node) as argument.
 """
 
+import contextlib
 import os
 from pathlib import Path
 import pickle
@@ -177,10 +178,8 @@ def main() -> int:
     try:
         return serve(file, sys.stdin.buffer, sys.stdout.buffer)
     finally:
-        try:
-            file.close()
-        except OSError:  # serve told the node of the failed write; the buffered rest fails too
-            pass
+        with contextlib.suppress(OSError):  # serve told the node of a failed write; the
+            file.close()  # buffered rest fails again on close
 
 
 if __name__ == '__main__':

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 from pathlib import Path
+from typing import NamedTuple
 import xml.etree.ElementTree as ET
 
 import pytest
@@ -54,8 +55,15 @@ def test_the_profile_is_used_unless_the_user_chose_one():
             assert environ == {name: value}
 
 
-def node_output(profile_env: dict[str, str], ros_domain: int) -> str:
-    """Start cam_node with the given profile variables, stop it once it serves, return its log."""
+class NodeRun(NamedTuple):
+    """What a cam_node run showed: its output, and its threads' names while it served."""
+
+    log: str
+    threads: set[str]
+
+
+def run_node(profile_env: dict[str, str], ros_domain: int) -> NodeRun:
+    """Start cam_node with the given profile variables, stop it once it serves (see NodeRun)."""
     env = {key: value for key, value in os.environ.items() if key not in PROFILE_VARIABLES}
     env.update(profile_env, ROS_DOMAIN_ID=str(ros_domain))
     process = subprocess.Popen([sys.executable, '-m', 'cam_ros.node', '--ros-args',
@@ -67,9 +75,11 @@ def node_output(profile_env: dict[str, str], ros_domain: int) -> str:
             lines.append(line)
             if 'serving /cam/evaluate' in line:
                 break
-        process.send_signal(2)
+        threads = {(task / 'comm').read_text().strip()
+                   for task in Path(f'/proc/{process.pid}/task').iterdir()}
+        process.send_signal(signal.SIGINT)
         rest, _ = process.communicate(timeout=START_TIMEOUT_S)
-        return ''.join(lines) + rest
+        return NodeRun(''.join(lines) + rest, threads)
     finally:
         if process.poll() is None:
             process.kill()
@@ -82,10 +92,10 @@ def test_cam_node_loads_the_profile_without_a_parse_error(ros_domain, tmp_path, 
         path = tmp_path / 'broken.xml'
         path.write_text(fastdds_profile_path().read_text().replace('<sec>0</sec>',
                                                                    '<sec>zero</sec>', 1))
-        output = node_output({'FASTRTPS_DEFAULT_PROFILES_FILE': str(path)}, ros_domain)
+        output = run_node({'FASTRTPS_DEFAULT_PROFILES_FILE': str(path)}, ros_domain).log
         assert 'XMLPARSER' in output and 'serving /cam/evaluate' in output
     else:
-        output = node_output({}, ros_domain)
+        output = run_node({}, ros_domain).log
         assert 'serving /cam/evaluate' in output
         assert 'XMLPARSER' not in output, output
 
@@ -169,35 +179,16 @@ def test_a_chosen_profile_keeps_shared_memory_and_a_bad_peer_is_named():
         serve_over_udp(environ)
 
 
-def transport_threads(profile_env: dict[str, str], ros_domain: int) -> set[str]:
-    """Start cam_node under LOCALHOST, return its threads' names once it serves, stop it."""
-    env = {key: value for key, value in os.environ.items() if key not in PROFILE_VARIABLES}
-    env.update(profile_env, ROS_DOMAIN_ID=str(ros_domain),
-               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    process = subprocess.Popen([sys.executable, '-m', 'cam_ros.node', '--ros-args',
-                                '--params-file', str(DEFAULT)], env=env, text=True,
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    try:
-        assert any('serving /cam/evaluate' in line for line in process.stdout)
-        tasks = Path(f'/proc/{process.pid}/task')
-        names = {(task / 'comm').read_text().strip() for task in tasks.iterdir()}
-        process.send_signal(signal.SIGINT)
-        process.communicate(timeout=START_TIMEOUT_S)
-        return names
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
-
-
 def test_cam_node_has_no_shared_memory_transport(ros_domain, start_cam_node):
     # Fast DDS names its transport threads dds.udp.<port>, dds.shm.<port> and dds.shm.wdog.
-    shipped = transport_threads({}, ros_domain)
+    # The range is LOCALHOST (ros_domain), where rmw_fastrtps would add shared memory.
+    assert os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'LOCALHOST'
+    shipped = run_node({}, ros_domain).threads
     assert any(name.startswith('dds.udp.') for name in shipped), shipped
     assert not any(name.startswith('dds.shm') for name in shipped), shipped
     # The check can fail: with the user's own profile the node has shared memory as before.
-    chosen = transport_threads({'FASTRTPS_DEFAULT_PROFILES_FILE': str(fastdds_profile_path())},
-                               ros_domain)
+    chosen = run_node({'FASTRTPS_DEFAULT_PROFILES_FILE': str(fastdds_profile_path())},
+                      ros_domain).threads
     assert 'dds.shm.wdog' in chosen, chosen
     # A client with both transports (this process: LOCALHOST) is answered over UDP.
     process, client = start_cam_node(DEFAULT)
