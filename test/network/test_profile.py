@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 from typing import NamedTuple
 import xml.etree.ElementTree as ET
@@ -122,7 +123,14 @@ def udp_only(path: str) -> ET.Element:
     return participant
 
 
-def test_localhost_becomes_the_same_discovery_over_udp_alone():
+@pytest.fixture
+def profile_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """Have serve_over_udp write its profiles into the test's folder, not the system's temp."""
+    monkeypatch.setattr(tempfile, 'tempdir', str(tmp_path))
+    return tmp_path
+
+
+def test_localhost_becomes_the_same_discovery_over_udp_alone(profile_folder):
     # rmw_fastrtps adds shared memory under LOCALHOST, whatever the profile: the node asks for
     # the system default and its profile says what LOCALHOST means (rmw_fastrtps participant.cpp).
     # rcl (Jazzy): an unknown range means LOCALHOST; ROS_LOCALHOST_ONLY=1 prevails over the
@@ -144,10 +152,11 @@ def test_localhost_becomes_the_same_discovery_over_udp_alone():
         assert builtin.find(f'{NAMESPACE}metatrafficMulticastLocatorList') is None
 
 
-def test_a_tampered_profile_file_is_replaced():
+def test_a_tampered_profile_file_is_replaced(profile_folder):
     environ: dict[str, str] = {}
     serve_over_udp(environ)
     path = Path(environ['FASTRTPS_DEFAULT_PROFILES_FILE'])
+    assert path.parent == profile_folder
     written = path.read_text()
     path.write_text(written.replace('UDPv4', 'SHM'))
     again: dict[str, str] = {}
@@ -155,7 +164,7 @@ def test_a_tampered_profile_file_is_replaced():
     assert again == environ and path.read_text() == written
 
 
-def test_other_ranges_keep_their_discovery_and_lose_shared_memory():
+def test_other_ranges_keep_their_discovery_and_lose_shared_memory(profile_folder):
     for environ in ({}, {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET', 'ROS_STATIC_PEERS': 'x.y'},
                     {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'OFF'}, {'ROS_LOCALHOST_ONLY': '0'},
                     {'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SYSTEM_DEFAULT'}):
@@ -167,7 +176,7 @@ def test_other_ranges_keep_their_discovery_and_lose_shared_memory():
             f'.//{NAMESPACE}builtin') is None
 
 
-def test_a_chosen_profile_keeps_shared_memory_and_a_bad_peer_is_named():
+def test_a_chosen_profile_keeps_shared_memory_and_a_bad_peer_is_named(profile_folder):
     for name in PROFILE_VARIABLES:
         environ = {name: '/etc/my_profile.xml', 'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}
         serve_over_udp(environ)
