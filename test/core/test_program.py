@@ -521,23 +521,29 @@ def test_evaluate_at_speed_is_evaluate_then_at_speed(make):
 
 @pytest.mark.parametrize('advancing', [False, True])
 def test_one_angle_gives_the_very_numbers_of_an_array_of_angles(advancing):
-    """The one-angle path (a master message) skips the grouping, not a digit of the result."""
+    """The one-angle paths (a master message) skip the grouping, not a digit of the result."""
     end = 0.36 if advancing else 0.0  # an advancing program ends above its start
-    cam = MotionProgram([Segment(law, deg(start), deg(stop), s0, s1) for law, start, stop, s0, s1
-                         in ((Cycloidal(), -30.0, 100.0, 0.0, 0.2),
-                             (Dwell(), 100.0, 150.0, 0.2, 0.2),
-                             (Polynomial4567(), 150.0, 330.0, 0.2, end))], advance=end)
+    cam = MotionProgram([Segment(law, deg(start), deg(stop), s0, s1, ramp=ramp)
+                         for law, start, stop, s0, s1, ramp
+                         in ((Cycloidal(), -30.0, 100.0, 0.0, 0.2, 0.03),  # a ramp under it
+                             (Dwell(), 100.0, 150.0, 0.2, 0.2, 0.0),
+                             (Polynomial4567(), 150.0, 330.0, 0.2, end, 0.0))], advance=end)
     angles = np.concatenate([np.random.default_rng(1).uniform(-40.0, 40.0, 400),
                              [deg(-30.0), deg(100.0), deg(150.0), deg(330.0), 2 * PI, -0.0,
                               np.nextafter(deg(330.0), 0.0), 1e6]])
     together = cam.evaluate(angles)
     one_by_one = [cam.evaluate(angle) for angle in angles.tolist()]
-    for name in ('s', 'ds', 'd2s', 'd3s'):
+    in_floats = np.array([cam.at(angle) for angle in angles.tolist()])
+    for column, name in enumerate(('s', 'ds', 'd2s', 'd3s')):
         np.testing.assert_array_equal([getattr(v, name) for v in one_by_one],
                                       getattr(together, name))
+        np.testing.assert_array_equal(in_floats[:, column], getattr(together, name))
+    assert all(type(value) is float for value in cam.at(1.0))
     in_arrays_of_one = [cam.evaluate(np.array([[angle]])).d2s for angle in angles.tolist()]
     np.testing.assert_array_equal(np.ravel(in_arrays_of_one), together.d2s)
     assert one_by_one[0].s.shape == () and cam.evaluate(np.float64(1.0)).s.shape == ()
     assert in_arrays_of_one[0].shape == (1, 1)
     with pytest.raises(InvalidParameter, match='theta'):
         cam.evaluate(math.nan)
+    with pytest.raises(InvalidParameter, match='theta'):
+        cam.at(math.inf)

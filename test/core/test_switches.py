@@ -51,3 +51,22 @@ def test_without_tracks_the_word_is_0_said_once():
     tracks = SwitchTracks(SwitchTable((), np.array([]), np.array([]), np.array([]), 0.1 * DEG))
     said = [tracks.update(turn, 10.0) for turn in (0.0, 1.0, 7.0, -3.0)]
     assert said == [[0], [], [], []] and tracks.word == 0
+
+
+# Edges in the travel: 7 places a turn (b off and d on share 35 deg), 350 deg not reached again
+# forward (2.9 .. 828 deg: 20), reached from 828 down to -22.9 deg (21).
+@pytest.mark.parametrize('start, end, places', [(0.05, 2.3 * 2 * math.pi, 20),
+                                                (2.3 * 2 * math.pi, -0.4, 21)],
+                         ids=['forward', 'backward'])
+def test_one_long_step_gives_the_words_of_many_short_ones(start, end, places):
+    """Edges crossed between two samples (over turns, two at once) come in order, each once."""
+    table = SwitchTable(('a', 'b', 'c', 'd'), np.radians([10.0, 30.0, 350.0, 35.0]),
+                        np.radians([50.0, 35.0, 20.0, 60.0]), np.zeros(4), 0.0)
+    one_step = SwitchTracks(table)
+    one_step.update(start, 0.0)
+    fine = SwitchTracks(table)
+    fine.update(start, 0.0)
+    steps = np.linspace(start, end, 20_001)[1:]  # 0.04 deg apart: one edge a step at most,
+    expected = [w for turn in steps for w in fine.update(turn, 0.0)]  # b off with d on at 35
+    assert one_step.update(end, 0.0) == expected
+    assert len(expected) == places

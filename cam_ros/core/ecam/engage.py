@@ -51,9 +51,8 @@ class Held:
     position: float
 
     def derivatives(self, master: npt.ArrayLike) -> MasterDerivatives:
-        """Return the constant position and zero derivatives."""
-        q = np.asarray(master, dtype=float)
-        zero = np.zeros_like(q)
+        """Return the constant position and zero derivatives (floats for a float)."""
+        zero = 0.0 if isinstance(master, float) else np.zeros_like(master, dtype=float)
         return MasterDerivatives(zero + self.position, zero, zero, zero)
 
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from dataclasses import dataclass
-from typing import Any, Mapping, NamedTuple, Sequence
+from typing import Any, Mapping, NamedTuple, overload, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -44,6 +44,9 @@ WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
 #: Why a master message was dropped (the diagnostics count each).
 NO_JOINT, NOT_FINITE = 'no master joint', 'not finite'
 LENGTHS, BACKWARDS = 'mismatched array lengths', 'stamp not after the previous'
+#: Values at master positions: a float for one master sample (the path of every master message:
+#: no arrays of one, whose NumPy calls cost far more than the arithmetic), else an array.
+Values = float | np.ndarray
 
 
 @dataclass(frozen=True)
@@ -55,40 +58,57 @@ class CamMapping:
     slave_offset: float = 0.0  # m, or rad of arm angle
     slave_scaling: float = 1.0
 
-    def cam_angle(self, master: npt.ArrayLike) -> np.ndarray:
-        """Return the cam angle theta in [0, 2 pi) of master positions (rad)."""
-        return np.mod(self.turns(master), TWO_PI)
+    @overload
+    def cam_angle(self, master: float) -> float: ...
+    @overload
+    def cam_angle(self, master: npt.ArrayLike) -> np.ndarray: ...
 
-    def turns(self, master: npt.ArrayLike) -> np.ndarray:
-        """Return the cam angle before the modulo: (q - q0) / m (rad)."""
-        return (np.asarray(master, dtype=float) - self.master_offset) / self.master_scaling
+    def cam_angle(self, master: npt.ArrayLike) -> Values:
+        """Return the cam angle theta in [0, 2 pi) of master positions (rad); a float of one."""
+        turns = self.turns(master)
+        return turns % TWO_PI if isinstance(turns, float) else np.mod(turns, TWO_PI)
+
+    @overload
+    def turns(self, master: float) -> float: ...
+    @overload
+    def turns(self, master: npt.ArrayLike) -> np.ndarray: ...
+
+    def turns(self, master: npt.ArrayLike) -> Values:
+        """Return the cam angle before the modulo: (q - q0) / m (rad); a float of one."""
+        q = master if isinstance(master, float) else np.asarray(master, dtype=float)
+        return (q - self.master_offset) / self.master_scaling
 
 
 class Setpoints(NamedTuple):
     """Follower setpoints (m or rad, per s, s^2, s^3) at master positions, and their cam angle."""
 
-    cam_angle: np.ndarray
-    position: np.ndarray
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    jerk: np.ndarray
+    cam_angle: Values
+    position: Values
+    velocity: Values
+    acceleration: Values
+    jerk: Values
 
 
 class MasterDerivatives(NamedTuple):
     """A slave path y(q) and its first three derivatives per rad of master position q."""
 
-    y: np.ndarray
-    dy: np.ndarray
-    d2y: np.ndarray
-    d3y: np.ndarray
+    y: Values
+    dy: Values
+    d2y: Values
+    d3y: Values
 
 
 def chain_rule(cam_angle: npt.ArrayLike, path: MasterDerivatives, omega: npt.ArrayLike,
                alpha: npt.ArrayLike) -> Setpoints:
-    """Return the setpoints of a path at master speed omega and acceleration alpha (jerk 0)."""
-    w, dw = np.asarray(omega, dtype=float), np.asarray(alpha, dtype=float)
-    return Setpoints(np.asarray(cam_angle, dtype=float), path.y, path.dy * w,
-                     path.d2y * w ** 2 + path.dy * dw,
+    """
+    Return the setpoints of a path at master speed omega and acceleration alpha (jerk 0).
+
+    Floats in (one master sample), floats out: the same numbers as arrays of one.
+    """
+    w, dw = (value if isinstance(value, float) else np.asarray(value, dtype=float)
+             for value in (omega, alpha))
+    angle = cam_angle if isinstance(cam_angle, float) else np.asarray(cam_angle, dtype=float)
+    return Setpoints(angle, path.y, path.dy * w, path.d2y * (w * w) + path.dy * dw,
                      path.d3y * w ** 3 + 3.0 * path.d2y * w * dw)
 
 
@@ -109,10 +129,15 @@ class ElectronicCam:
         """Return y and its derivatives per rad of master (not of cam) at master positions."""
         mapping = self.mapping
         # The program wraps the turns and adds an advancing program's advance per whole turn.
-        values = self.program.evaluate(mapping.turns(master))
+        turns = mapping.turns(master)
+        if isinstance(turns, float):
+            s, ds, d2s, d3s = self.program.at(turns)
+        else:
+            values = self.program.evaluate(turns)
+            s, ds, d2s, d3s = values.s, values.ds, values.d2s, values.d3s
         k, m = mapping.slave_scaling, mapping.master_scaling
-        return MasterDerivatives(k * values.s + mapping.slave_offset, k * values.ds / m,
-                                 k * values.d2s / m ** 2, k * values.d3s / m ** 3)
+        return MasterDerivatives(k * s + mapping.slave_offset, k * ds / m, k * d2s / m ** 2,
+                                 k * d3s / m ** 3)
 
     def setpoints(self, master: npt.ArrayLike, omega: npt.ArrayLike = 0.0,
                   alpha: npt.ArrayLike = 0.0) -> Setpoints:

@@ -79,16 +79,36 @@ def segment_into(segment: Segment, values: LawValues) -> None:
     ramp, span = segment.ramp, segment.span
     line = values.y * (ramp * span) if ramp else None
     segment.law._derivatives_into(values)
-    y, y1, y2, y3 = values
-    amplitude = segment.amplitude
-    y *= amplitude
+    for value, scale in zip(values, _scales(segment)):
+        value *= scale
+    y, y1 = values.y, values.y1
     y += segment.s_start
-    y1 *= amplitude / span
-    y2 *= amplitude / span ** 2
-    y3 *= amplitude / span ** 3
     if line is not None:
         y += line
         y1 += ramp
+
+
+def segment_at(segment: Segment, u: float) -> tuple[float, float, float, float]:
+    """
+    Return segment_values at one u in [0, 1] as plain floats: the same numbers.
+
+    The law runs on arrays of one, the scaling in floats: NumPy's cost per call on an array of
+    one is some 70 times a float operation's.
+    """
+    values = workspace(u)
+    segment.law._derivatives_into(values)
+    s, ds, d2s, d3s = (float(value) * scale for value, scale in zip(values, _scales(segment)))
+    s += segment.s_start
+    if segment.ramp:
+        s += u * (segment.ramp * segment.span)
+        ds += segment.ramp
+    return s, ds, d2s, d3s
+
+
+def _scales(segment: Segment) -> tuple[float, float, float, float]:
+    """Return the factors of the law's y and its three derivatives: amplitude / span**k."""
+    amplitude, span = segment.amplitude, segment.span
+    return amplitude, amplitude / span, amplitude / span ** 2, amplitude / span ** 3
 
 
 def segment_values(segment: Segment, u: npt.ArrayLike) -> LawValues:
