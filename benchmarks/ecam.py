@@ -44,8 +44,9 @@ STEP_RAD = 600 * 2 * np.pi / 60 / 1000  # 600 rpm at 1 kHz
 #: (about 500 us of CPU each per message) and the benchmark's own process needed more than the
 #: 2 cores at 1 kHz, so the latencies measured the queue (p50 2-45 ms for both). Blocks of 10 ms
 #: alternate finely enough that both see the same stalls of the machine (blocks of 0.1 s gave p99
-#: ratios from 0.6 to 1.8 in three runs), and cam_node's cycle clock bridges the 10-cycle gaps
-#: (MAX_GAP), so it runs its steady path: the speed filter on a settled clock.
+#: ratios from 0.6 to 1.8 in three runs). The stamps of each node's master run on without a gap
+#: (message k is stamped k ms), so cam_node's cycle clock and speed filter run as on a steady
+#: master.
 BLOCK = 10
 
 
