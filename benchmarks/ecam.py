@@ -179,13 +179,15 @@ def ecam_figures(graph: RosGraph, sizes: EcamSizes) -> list[Figure]:
     name = f'E-cam master to command, {sizes.rate_hz:g} Hz, {count:,} msgs'
     # Both nodes' CPU per message beside the period: near or over the machine's cores with the
     # benchmark's own process, messages queue and the latencies measure the queue.
+    how = (f' One node at a time, in alternating blocks of {BLOCK} master messages; '
+           f'{sizes.warmup_seconds:g} s of warm-up, then {sizes.seconds:g} s for each.')
     load = (f' CPU per master message: cam_node {cpu[0]:.0f} us, relay {cpu[1]:.0f} us '
             f'(period {1e6 / sizes.rate_hz:.0f} us, {os.cpu_count()} cores).')
     return [
         Figure('ecam_latency_p50_ms', f'{name}, p50 ({missing[0]} without command)',
                percentile_ms(latencies[0], 50), 'ms', 'bare relay p50',
                percentile_ms(latencies[1], 50), P50_TARGET, extra=extra, note=__doc__.split(
-                   '\n\n')[0].strip().replace('\n', ' ') + load),
+                   '\n\n')[0].strip().replace('\n', ' ') + how + load),
         Figure('ecam_latency_p99_ms', 'E-cam master to command, p99',
                percentile_ms(latencies[0], 99), 'ms', 'bare relay p99',
                percentile_ms(latencies[1], 99), P99_TARGET, extra=extra),
