@@ -57,13 +57,16 @@ def test_velocity_acceleration_jerk_are_the_chain_rule_of_the_master_motion(q0):
 
 
 def test_setpoints_broadcast_over_arrays_like_single_samples():
+    """One sample in floats (a master message) gives the very numbers of the array path."""
     q = np.linspace(-20.0, 20.0, 101)
     omega = np.linspace(-60.0, 60.0, 101)
     together = CAM.setpoints(q, omega, 2.0)
-    for index in (0, 17, 50, 100):
-        alone = CAM.setpoints(q[index], omega[index], 2.0)
-        for field in together._fields:
-            assert getattr(together, field)[index] == getattr(alone, field)
+    for index in range(q.size):
+        for alone in (CAM.setpoints(float(q[index]), float(omega[index]), 2.0),
+                      CAM.setpoints(q[index], omega[index], 2.0)):  # NumPy scalars
+            for field in together._fields:
+                assert getattr(together, field)[index] == getattr(alone, field), (index, field)
+    assert all(type(value) is float for value in CAM.setpoints(1.0, 3.0, 2.0))
 
 
 def test_parameters_convert_to_si(tmp_path):

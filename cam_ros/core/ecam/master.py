@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from dataclasses import dataclass
-from typing import Any, Mapping, NamedTuple, overload, Sequence
+from typing import Any, Mapping, NamedTuple, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -58,20 +58,10 @@ class CamMapping:
     slave_offset: float = 0.0  # m, or rad of arm angle
     slave_scaling: float = 1.0
 
-    @overload
-    def cam_angle(self, master: float) -> float: ...
-    @overload
-    def cam_angle(self, master: npt.ArrayLike) -> np.ndarray: ...
-
     def cam_angle(self, master: npt.ArrayLike) -> Values:
         """Return the cam angle theta in [0, 2 pi) of master positions (rad); a float of one."""
         turns = self.turns(master)
         return turns % TWO_PI if isinstance(turns, float) else np.mod(turns, TWO_PI)
-
-    @overload
-    def turns(self, master: float) -> float: ...
-    @overload
-    def turns(self, master: npt.ArrayLike) -> np.ndarray: ...
 
     def turns(self, master: npt.ArrayLike) -> Values:
         """Return the cam angle before the modulo: (q - q0) / m (rad); a float of one."""
@@ -103,13 +93,14 @@ def chain_rule(cam_angle: npt.ArrayLike, path: MasterDerivatives, omega: npt.Arr
     """
     Return the setpoints of a path at master speed omega and acceleration alpha (jerk 0).
 
-    Floats in (one master sample), floats out: the same numbers as arrays of one.
+    Floats in (one master sample), floats out: the same numbers as arrays (w * w * w, not
+    w ** 3: Python's pow and NumPy's differ in the last digit now and then).
     """
     w, dw = (value if isinstance(value, float) else np.asarray(value, dtype=float)
              for value in (omega, alpha))
     angle = cam_angle if isinstance(cam_angle, float) else np.asarray(cam_angle, dtype=float)
     return Setpoints(angle, path.y, path.dy * w, path.d2y * (w * w) + path.dy * dw,
-                     path.d3y * w ** 3 + 3.0 * path.d2y * w * dw)
+                     path.d3y * (w * w * w) + 3.0 * path.d2y * w * dw)
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,11 +121,13 @@ class ElectronicCam:
         mapping = self.mapping
         # The program wraps the turns and adds an advancing program's advance per whole turn.
         turns = mapping.turns(master)
+        values: tuple[Values, Values, Values, Values]
         if isinstance(turns, float):
-            s, ds, d2s, d3s = self.program.at(turns)
+            values = self.program.at(turns)
         else:
-            values = self.program.evaluate(turns)
-            s, ds, d2s, d3s = values.s, values.ds, values.d2s, values.d3s
+            motion = self.program.evaluate(turns)
+            values = motion.s, motion.ds, motion.d2s, motion.d3s
+        s, ds, d2s, d3s = values
         k, m = mapping.slave_scaling, mapping.master_scaling
         return MasterDerivatives(k * s + mapping.slave_offset, k * ds / m, k * d2s / m ** 2,
                                  k * d3s / m ** 3)

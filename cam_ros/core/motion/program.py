@@ -22,9 +22,8 @@ from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray
 from ._law_base import LawValues
 from ..errors import InvalidParameter
 from .laws import Dwell
-from .segment import (check_segment, is_jump, POSITION_TOLERANCE, Segment, segment_at,
-                      segment_into,
-                      segment_values, SegmentSummary, summarize)
+from .segment import (check_segment, is_jump, POSITION_TOLERANCE, Segment, segment_into,
+                      segment_values, segment_values_at, SegmentSummary, summarize)
 
 TWO_PI = 2.0 * math.pi
 #: Largest gap, overlap, or error of the 2 pi total, accepted between segments (rad).
@@ -184,8 +183,8 @@ class MotionProgram:
         Return s, ds, d2s, d3s per rad at one cam angle (rad, any real) as plain floats.
 
         The path of one master message or one requested angle: the same numbers as evaluate,
-        with the law evaluated once on arrays of one and the rest in floats (NumPy costs about
-        1.5 us a call on an array of one, a float operation some 20 ns).
+        with the law evaluated once on a 0-d array and the rest in floats (NumPy costs about
+        1.5 us a call on an array of one element, a float operation some 20 ns).
         """
         if not math.isfinite(theta):
             raise InvalidParameter('theta', theta, 'must be finite (rad)')
@@ -198,7 +197,7 @@ class MotionProgram:
         values = self._dwell_floats.get(number)
         if values is None:
             u = min((local - self._offset_list[number]) / self._span_list[number], 1.0)
-            values = segment_at(self.segments[number], u)
+            values = segment_values_at(self.segments[number], u)
         if turns:
             return (values[0] + self.advance * turns, *values[1:])
         return values

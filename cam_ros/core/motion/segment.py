@@ -88,12 +88,12 @@ def segment_into(segment: Segment, values: LawValues) -> None:
         y1 += ramp
 
 
-def segment_at(segment: Segment, u: float) -> tuple[float, float, float, float]:
+def segment_values_at(segment: Segment, u: float) -> tuple[float, float, float, float]:
     """
     Return segment_values at one u in [0, 1] as plain floats: the same numbers.
 
-    The law runs on arrays of one, the scaling in floats: NumPy's cost per call on an array of
-    one is some 70 times a float operation's.
+    The law runs on 0-d arrays, the scaling in floats: NumPy's cost per call on an array of one
+    element is some 70 times a float operation's.
     """
     values = workspace(u)
     segment.law._derivatives_into(values)
