@@ -256,7 +256,7 @@ class MotionProgram:
 
     def segment_at(self, angle: float) -> int:
         """Return the number of the segment that owns a cam angle (rad, any finite value)."""
-        return int(np.searchsorted(self._boundaries, (angle - self.start) % TWO_PI, side='right'))
+        return bisect_right(self._boundary_list, (angle - self.start) % TWO_PI)
 
     def _local_angles(self, theta: npt.ArrayLike) -> FloatArray:
         """Return theta - start, wrapped into [0, 2 pi] if needed, or raise unless finite."""
