@@ -9,7 +9,7 @@ from typing import Any
 
 from cam_ros.commands.common import degrees, number
 from cam_ros.core import CamDesign
-from cam_ros.core.design import cam_degrees
+from cam_ros.core.cam_angles import cam_degrees
 
 #: How a limit check reads: met, broken, or no limit given.
 LIMIT_STATES = {True: 'ok', False: 'VIOLATED', None: 'no limit'}

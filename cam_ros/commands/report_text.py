@@ -11,7 +11,7 @@ from typing import Any
 from cam_ros.commands.closure_text import closure_data, closure_rows, LIMIT_STATES
 from cam_ros.commands.common import degrees, format_table, number
 from cam_ros.core import CamDesign
-from cam_ros.core.design import cam_degrees
+from cam_ros.core.cam_angles import cam_degrees
 from cam_ros.core.dynamics.report import DynamicsReport
 from cam_ros.core.dynamics.vibration import VibrationReport
 from cam_ros.core.report import DesignReport

@@ -8,7 +8,8 @@ files).
 from .config.parameters import PARAMETERS
 from .config.params_file import read_parameters_file
 from .config.schema import CamConfig, load_config, parse_parameters
-from .design import CamDesign, CamState, check_angles
+from .cam_angles import check_angles
+from .design import CamDesign, CamState
 from .design_from_config import build_design
 from .dynamics.follower import DynamicsConfig, DynamicsValues, FollowerDynamics
 from .errors import CamError, InvalidParameter, RecordingError

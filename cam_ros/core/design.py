@@ -13,6 +13,7 @@ from typing import cast
 import numpy as np
 import numpy.typing as npt
 
+from .cam_angles import cam_angle, cam_angles, cam_degrees
 from .config.schema import CamConfig
 from .dynamics.flanks import form_closed_sides, Side, side_loads, SideLoads, side_values
 from .dynamics.follower import DynamicsValues, FollowerDynamics
@@ -22,11 +23,11 @@ from .dynamics.vibration import RIGID_RATIO, vibration_report, VibrationReport
 from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
 from .geometry.followers import Follower, OscillatingRoller, TranslatingRoller
-from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_measures
+from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_at, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
 from .geometry.closure import closure_check, ClosureCheck, conjugate_follower, groove_contours
 from .geometry.machining import cam_contour, Contour
-from .motion.program import Discontinuity, MotionProgram
+from .motion.program import Discontinuity, MotionProgram, time_derivatives
 
 TWO_PI = 2.0 * math.pi
 RollerFollower = TranslatingRoller | OscillatingRoller
@@ -88,6 +89,9 @@ class CamDesign:
         An advancing program (a rotary slave) is evaluated at the angles as given: each whole
         turn adds its advance to the position.
         """
+        angles = np.asarray(angles, dtype=float)
+        if angles.shape == (1,) and (self.dynamics is None or self._sides is None):
+            return self._evaluate_one(float(angles[0]))
         theta = cam_angles(angles)
         motion = self.program.evaluate(angles)  # the program wraps, and counts an advance
         timed = motion.at_speed(self.config.cam_speed)
@@ -107,6 +111,29 @@ class CamDesign:
                                           radius)
         return CamState(theta, timed.position, timed.velocity, timed.acceleration, timed.jerk,
                         motion.ds, motion.d2s, motion.d3s, pressure_angle, radius, forces)
+
+    def _evaluate_one(self, angle: float) -> CamState:
+        """Return evaluate's numbers at one angle, computed in floats.
+
+        A one-angle request (~/evaluate's usual call) would otherwise spend its time in NumPy's
+        per-call cost on arrays of one element; the results are put into arrays of one at the end.
+        """
+        theta = cam_angle(angle)
+        s, ds, d2s, d3s = self.program.at(angle)
+        timed = time_derivatives(self.config.cam_speed, ds, d2s, d3s)
+        if self.follower is None:
+            pressure_angle = radius = math.nan
+        else:
+            cam = (s, ds, d2s) if self.surface is self.program else self.surface.at(theta)[:3]
+            pressure_angle, radius = contact_at(self.follower, theta, *cam,
+                                                clockwise=self.clockwise)
+        (theta_, s_, velocity, acceleration, jerk, ds_, d2s_, d3s_, pressure_angle_,
+         radius_) = [np.array([value]) for value in (theta, s, *timed, ds, d2s, d3s,
+                                                     pressure_angle, radius)]
+        forces = None if self.dynamics is None else self.dynamics.values(
+            s_, ds_, d2s_, pressure_angle_, radius_)
+        return CamState(theta_, s_, velocity, acceleration, jerk, ds_, d2s_, d3s_,
+                        pressure_angle_, radius_, forces)
 
     @cached_property
     def dynamics(self) -> FollowerDynamics | None:
@@ -356,35 +383,3 @@ class CamDesign:
                 f'{self.config.cam_speed:g} rad/s: {laws}; max |pressure angle| '
                 f'{math.degrees(check.max_pressure_angle):.2f} deg, min radius of curvature '
                 f'{check.min_radius:.6g} m')
-
-
-def cam_degrees(angle: float, digits: int = 9, end: bool = False) -> float:
-    """Return a cam angle (rad) in degrees rounded to digits: in [0, 360), or (0, 360] for an end.
-
-    A position just short of a full turn reads 0, never 360; the end of a span reaching the
-    full turn reads 360.
-    """
-    degrees = round(math.degrees(angle), digits) % 360.0
-    return 360.0 if end and degrees == 0.0 else degrees
-
-
-def cam_angles(angles: npt.ArrayLike) -> np.ndarray:
-    """Return angles (rad) as a new float array taken modulo 2 pi (np.mod only when needed)."""
-    theta = np.asarray(angles, dtype=float)
-    if theta.size and 0.0 <= theta.min() and theta.max() < TWO_PI:  # NaN fails: np.mod
-        return theta + 0.0  # a copy, -0.0 made 0.0 as np.mod does
-    return np.mod(theta, TWO_PI)
-
-
-def check_angles(angles: np.ndarray, max_batch: int) -> str | None:
-    """Return why a batch of requested angles cannot be evaluated, or None if it can."""
-    if angles.size == 0:
-        return 'angles is empty: give at least one cam angle (rad)'
-    if angles.size > max_batch:
-        return (f'angles has {angles.size} entries: more than output.max_batch = {max_batch}; '
-                'split the request')
-    finite = np.isfinite(angles)
-    if not finite.all():
-        index = int(np.argmin(finite))
-        return f'angles[{index}] = {float(angles[index])!r}: must be a finite angle (rad)'
-    return None

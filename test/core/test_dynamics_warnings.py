@@ -6,7 +6,7 @@ import math
 import pytest
 from test_dynamics import build, cosine_cam, H, K, M, P
 
-from cam_ros.core.design import cam_degrees
+from cam_ros.core.cam_angles import cam_degrees
 from cam_ros.core.dynamics.report import dynamics_report
 from cam_ros.core.report import design_report
 

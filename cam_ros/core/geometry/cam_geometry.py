@@ -132,6 +132,13 @@ def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s:
     angle, radius = np.empty(s.shape), np.empty(s.shape)
     for start in range(0, s.size, BLOCK):
         part = slice(start, start + BLOCK)
-        follower._contact(theta[part], sigma, s[part], ds[part], d2s[part], angle[part],
-                          radius[part])
+        angle[part], radius[part] = follower._contact(theta[part], sigma, s[part], ds[part],
+                                                      d2s[part])
     return angle, radius
+
+
+def contact_at(follower: Follower, theta: float, s: float, ds: float, d2s: float, *,
+               clockwise: bool = False) -> tuple[float, float]:
+    """Return contact_measures at one angle, as floats (the path of a one-angle request)."""
+    angle, radius = follower._contact(theta, -1 if clockwise else 1, s, ds, d2s)
+    return float(angle), float(radius)

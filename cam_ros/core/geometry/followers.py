@@ -26,6 +26,7 @@ from typing import Callable, Optional, Union
 
 import numpy as np
 
+from ..arrays import Samples
 from .envelope import dot, flat_envelope, pressure_angle, Profile, relative_motion, roller_profile
 from ..errors import InvalidParameter
 
@@ -107,25 +108,17 @@ class TranslatingRoller:
         return roller_profile(theta, sigma, centre, np.array((zero, ds)),
                               np.array((zero, d2s)), np.array((zero, one)), self.roller_radius)
 
-    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
-                 angle: Array, radius: Array) -> None:
-        # _geometry's measures in closed form: with p = d + s, q = ds - sigma e (the pitch
-        # tangent is (sigma p, q)), tan phi = q / p and
+    def _contact(self, theta: Samples, sigma: int, s: Samples, ds: Samples,
+                 d2s: Samples) -> tuple[Samples, Samples]:
+        # _geometry's measures in closed form, on floats (one angle) or arrays: with p = d + s,
+        # q = ds - sigma e (the pitch tangent is (sigma p, q)), tan phi = q / p and
         # rho_pitch = (p^2 + q^2)^1.5 / (p^2 + q^2 + q ds - p d2s).
         p = s + self.prime_height
         q = ds - sigma * self.offset
-        np.arctan2(q, p, out=angle)
-        speed2 = p * p
-        speed2 += q * q
-        np.multiply(q, ds, out=q)
-        q += speed2
-        np.multiply(p, d2s, out=p)
-        q -= p
-        np.sqrt(speed2, out=radius)
-        radius *= speed2
+        speed2 = p * p + q * q
         with np.errstate(divide='ignore'):  # an inflection of the pitch curve: infinite
-            radius /= q
-        radius -= self.roller_radius
+            radius = np.sqrt(speed2) * speed2 / (speed2 + q * ds - p * d2s)
+        return np.arctan2(q, p), radius - self.roller_radius
 
 
 @dataclass(frozen=True)
@@ -157,21 +150,23 @@ class TranslatingFlat:
         return Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds,
                        np.array((zero, one)))
 
-    def _contact(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array,
-                 angle: Array, radius: Array) -> None:
-        # _geometry's measures in closed form: phi = 0, rho = Rb + s + d2s.
-        angle.fill(0.0)
-        np.add(s, self.base_radius, out=radius)
-        radius += d2s
+    def _contact(self, theta: Samples, sigma: int, s: Samples, ds: Samples,
+                 d2s: Samples) -> tuple[Samples, Samples]:
+        # _geometry's measures in closed form, on floats or arrays: phi = 0, rho = Rb + s + d2s.
+        angle = 0.0 if isinstance(ds, float) else np.zeros_like(ds)
+        return angle, s + self.base_radius + d2s
 
 
-def _contact_from_geometry(follower: 'Follower', theta: Array, sigma: int, s: Array, ds: Array,
-                           d2s: Array, angle: Array, radius: Array) -> None:
-    """Write the pressure angle and surface radius of the follower's full _geometry into angle
-    and radius: the _contact of a follower without a closed form of its own."""
+def _contact_from_geometry(follower: 'Follower', theta: Samples, sigma: int, s: Samples,
+                           ds: Samples, d2s: Samples) -> tuple[Samples, Samples]:
+    """Return the pressure angle and surface radius of the follower's full _geometry: the
+    _contact of a follower without a closed form of its own (one angle: as an array of one)."""
+    if isinstance(theta, float):
+        one = (np.array([value]) for value in (s, ds, d2s))
+        angle, radius = _contact_from_geometry(follower, np.array([theta]), sigma, *one)
+        return float(angle[0]), float(radius[0])
     profile = follower._geometry(theta, sigma, s, ds, d2s)
-    np.copyto(angle, profile.pressure_angle)
-    np.copyto(radius, profile.surface_radius)
+    return profile.pressure_angle, profile.surface_radius
 
 
 def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:

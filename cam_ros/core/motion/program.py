@@ -18,7 +18,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray
+from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray, Samples
 from ._law_base import LawValues
 from ..errors import InvalidParameter
 from .laws import Dwell
@@ -78,9 +78,16 @@ class ProgramValues:
 
     def at_speed(self, omega: float) -> TimeValues:
         """Return position, velocity, acceleration and jerk at constant cam speed omega (rad/s)."""
-        speed = _speed(omega)
-        return TimeValues(self.s, _read_only(speed * self.ds), _read_only(speed ** 2 * self.d2s),
-                          _read_only(speed ** 3 * self.d3s))
+        timed = time_derivatives(omega, self.ds, self.d2s, self.d3s)
+        return TimeValues(self.s, *map(_read_only, timed))
+
+
+def time_derivatives(omega: float, ds: Samples, d2s: Samples,
+                     d3s: Samples) -> tuple[Samples, Samples, Samples]:
+    """Return velocity, acceleration and jerk at constant cam speed omega (rad/s) from the
+    derivatives per rad; floats (one angle) or arrays."""
+    speed = _speed(omega)
+    return speed * ds, speed ** 2 * d2s, speed ** 3 * d3s
 
 
 @dataclass(frozen=True)
