@@ -195,12 +195,15 @@ def overhead(graph: RosGraph, workdir: Path, sizes: RecordingSizes) -> Figure:
         f'(off), a bare raw subscription on the same node with a callback per message '
         f'({result["bare"]["mean_us"]:.1f} us) or taken in batches like the Recorder\'s '
         f'({result["drain"]["mean_us"]:.1f} us: what any reader in the process costs publish()), '
+        f'a reader in a process of its own, as `ros2 bag record` is '
+        f'({result["remote"]["mean_us"]:.1f} us: what an out-of-process recorder would cost it), '
         f'the node\'s recording switch on (on: recording.enabled true; the Recorder takes the '
         f'messages in the node\'s process and a writer process serialises, compresses and writes '
         f'them; {result["recorded_fraction"]:.2%} of the loop\'s messages in the files); mean '
         f'time per message. Process CPU per message: {result["off"]["cpu_us"]:.0f} us off, '
         f'{result["bare"]["cpu_us"]:.0f} us per-message, {result["drain"]["cpu_us"]:.0f} us '
-        f'batched, {result["on"]["cpu_us"]:.0f} us on (the writer process not included).',
+        f'batched, {result["remote"]["cpu_us"]:.0f} us remote, {result["on"]["cpu_us"]:.0f} us '
+        f'on (the writer process and the remote reader not included).',
         extra=result)
 
 

@@ -17,7 +17,8 @@ WAIT_S), until stdin closes.
 ``loop TOPIC FOLDER RATE_HZ COUNT ROUNDS``: the main thread publishes COUNT JointState messages
 at RATE_HZ on the node's ~/joint_states (TOPIC is ignored), ROUNDS times in turn with nothing
 subscribed ('off'), a bare raw subscription with a callback per message ('bare') or taken in
-batches ('drain'), and the node's recording switch on ('on': recording.enabled true, files in
+batches ('drain'), a reader in a process of its own ('remote', benchmarks/remote_reader.py), and
+the node's recording switch on ('on': recording.enabled true, files in
 FOLDER, the node's own state messages recorded beside the loop's); prints the time per
 build-and-publish and the process CPU per message of each, and the fraction of the loop's 'on'
 messages recorded.
@@ -26,7 +27,9 @@ from __future__ import annotations
 
 import json
 import math
+import signal
 import statistics
+import subprocess
 import sys
 import threading
 import time
@@ -39,9 +42,10 @@ import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
-from rclpy.qos import QoSProfile
 from rclpy.utilities import remove_ros_args
 from sensor_msgs.msg import JointState
+
+from benchmarks.remote_reader import BARE_QOS
 
 from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.node import CamNode, STATE_QOS
@@ -50,17 +54,17 @@ from cam_ros.paths import default_config_path
 from cam_ros.node.parameters import RECORDING_SWITCH
 from cam_ros.recording import open_recording, Recorder, TopicSpec
 from cam_ros.recording.intake import RawIntake, Taken
-from cam_ros.recording.writer import MIN_SUBSCRIPTION_DEPTH
 
-#: The bare subscription's QoS: what the Recorder subscribes with for STATE_QOS.
-BARE_QOS = QoSProfile(depth=max(STATE_QOS.depth, MIN_SUBSCRIPTION_DEPTH))
 #: Longest wait for a subscription to match a publisher (s).
 WAIT_S = 10.0
 #: Longest wait for the recorder to write the last messages of a publish loop (s).
 DRAIN_S = 1.0
-#: The publish loop's modes: no subscriber, bare raw subscriptions (a callback per message;
-#: taken in batches), the node's recording switch on (all on the same node).
-LOOP_MODES = ('off', 'bare', 'drain', 'on')
+#: The publish loop's modes: no subscriber, bare raw subscriptions on the same node (a callback
+#: per message; taken in batches), a reader in a process of its own (as `ros2 bag record`), the
+#: node's recording switch on.
+LOOP_MODES = ('off', 'bare', 'drain', 'remote', 'on')
+#: Longest wait for the remote reader to end after SIGINT (s).
+STOP_S = 10.0
 #: frame_id of the publish loop's messages (the node's own state messages say 'cam').
 LOOP_FRAME = 'bench_loop'
 
@@ -149,6 +153,16 @@ def publish_loop(publisher: Publisher, rate_hz: float, count: int) -> tuple[list
     return busy, (time.process_time() - cpu) / count
 
 
+def stop(process: subprocess.Popen) -> None:
+    """Stop a reader process as Ctrl-C would; kill it if it does not end."""
+    process.send_signal(signal.SIGINT)
+    try:
+        process.wait(STOP_S)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+
+
 def switch_recording(node: CamNode, on: bool) -> None:
     """Set recording.enabled, as `ros2 param set` would; the node's switch follows."""
     result = node.set_parameters([Parameter(RECORDING_SWITCH, Parameter.Type.BOOL, on)])[0]
@@ -183,12 +197,16 @@ def loop(node: CamNode, topic: str, folder: str, rate_hz: float, count: int,
                 elif mode == 'drain':
                     stack.callback(RawIntake(node, [(topic, JointState, BARE_QOS)],
                                              ignore_batch).stop)
+                elif mode == 'remote':
+                    reader = subprocess.Popen([sys.executable, '-m', 'benchmarks.remote_reader',
+                                               topic])
+                    stack.callback(stop, reader)
                 elif mode == 'on':
                     switch_recording(node, True)
                     stack.callback(switch_recording, node, False)
                 if mode != 'off' and not wait_until(
                         lambda: publisher.get_subscription_count() > subscribers
-                        and reader_matched(node, topic)):
+                        and (mode == 'remote' or reader_matched(node, topic))):
                     raise SystemExit(f'{mode}: nothing matched the publisher')
                 times, seconds = publish_loop(publisher, rate_hz, count)
                 busy[mode].extend(times)
