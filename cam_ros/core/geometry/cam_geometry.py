@@ -129,6 +129,8 @@ def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s:
     of BLOCK samples so that temporaries stay in cache. Inputs: equal-length 1-D float arrays.
     """
     sigma = -1 if clockwise else 1
+    if s.size <= BLOCK:  # one block: the measures as computed, no copy
+        return follower._contact(theta, sigma, s, ds, d2s)
     angle, radius = np.empty(s.shape), np.empty(s.shape)
     for start in range(0, s.size, BLOCK):
         part = slice(start, start + BLOCK)

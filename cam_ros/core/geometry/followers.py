@@ -113,12 +113,22 @@ class TranslatingRoller:
         # _geometry's measures in closed form, on floats (one angle) or arrays: with p = d + s,
         # q = ds - sigma e (the pitch tangent is (sigma p, q)), tan phi = q / p and
         # rho_pitch = (p^2 + q^2)^1.5 / (p^2 + q^2 + q ds - p d2s).
+        # Augmented assignments work in place on arrays (few temporaries) and on floats alike.
         p = s + self.prime_height
         q = ds - sigma * self.offset
-        speed2 = p * p + q * q
+        angle = np.arctan2(q, p)
+        speed2 = p * p
+        speed2 += q * q
+        q *= ds  # q and p are spent: q becomes the denominator
+        q += speed2
+        p *= d2s
+        q -= p
+        radius = np.sqrt(speed2)
+        radius *= speed2
         with np.errstate(divide='ignore'):  # an inflection of the pitch curve: infinite
-            radius = np.sqrt(speed2) * speed2 / (speed2 + q * ds - p * d2s)
-        return np.arctan2(q, p), radius - self.roller_radius
+            radius /= q
+        radius -= self.roller_radius
+        return angle, radius
 
 
 @dataclass(frozen=True)
