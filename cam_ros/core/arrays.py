@@ -1,6 +1,6 @@
 """Array helpers every part of the core shares: the float array type and validated conversions."""
 import math
-from typing import Callable, TypeVar
+from typing import Callable
 
 import numpy as np
 import numpy.typing as npt
@@ -8,9 +8,9 @@ import numpy.typing as npt
 from .errors import InvalidParameter
 
 #: One sample as a float (one requested angle or master message: NumPy's per-call cost on an
-#: array of one element would exceed the arithmetic) or many as an array, for formulas that
-#: serve both.
-Samples = TypeVar('Samples', float, np.ndarray)
+#: array of one element would exceed the arithmetic), many as an array: for formulas that serve
+#: both.
+Values = float | np.ndarray
 
 FloatArray = npt.NDArray[np.float64]
 #: Samples per block of a fused array computation: its temporaries stay in a core's L2 cache.

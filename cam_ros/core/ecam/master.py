@@ -34,6 +34,7 @@ from typing import Any, Mapping, NamedTuple, Sequence
 import numpy as np
 import numpy.typing as npt
 
+from ..arrays import Values
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..motion.program import MotionProgram, TWO_PI
@@ -44,9 +45,6 @@ WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
 #: Why a master message was dropped (the diagnostics count each).
 NO_JOINT, NOT_FINITE = 'no master joint', 'not finite'
 LENGTHS, BACKWARDS = 'mismatched array lengths', 'stamp not after the previous'
-#: Values at master positions: a float for one master sample (the path of every master message:
-#: no arrays of one, whose NumPy calls cost far more than the arithmetic), else an array.
-Values = float | np.ndarray
 
 
 @dataclass(frozen=True)

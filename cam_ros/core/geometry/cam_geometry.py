@@ -129,13 +129,11 @@ def contact_measures(follower: Follower, theta: Array, s: Array, ds: Array, d2s:
     of BLOCK samples so that temporaries stay in cache. Inputs: equal-length 1-D float arrays.
     """
     sigma = -1 if clockwise else 1
-    if s.size <= BLOCK:  # one block: the measures as computed, no copy
-        return follower._contact(theta, sigma, s, ds, d2s)
     angle, radius = np.empty(s.shape), np.empty(s.shape)
     for start in range(0, s.size, BLOCK):
         part = slice(start, start + BLOCK)
-        angle[part], radius[part] = follower._contact(theta[part], sigma, s[part], ds[part],
-                                                      d2s[part])
+        follower._contact(theta[part], sigma, s[part], ds[part], d2s[part],
+                          out=(angle[part], radius[part]))
     return angle, radius
 
 

@@ -26,11 +26,13 @@ from typing import Callable, Optional, Union
 
 import numpy as np
 
-from ..arrays import Samples
+from ..arrays import Values
 from .envelope import dot, flat_envelope, pressure_angle, Profile, relative_motion, roller_profile
 from ..errors import InvalidParameter
 
 Array = np.ndarray
+#: Output arrays for the pressure angle and the radius of curvature of a block of samples.
+Measures = tuple[Array, Array]
 
 
 def _real(name: str, value: object, ok: Callable[[float], bool], rule: str) -> float:
@@ -108,22 +110,23 @@ class TranslatingRoller:
         return roller_profile(theta, sigma, centre, np.array((zero, ds)),
                               np.array((zero, d2s)), np.array((zero, one)), self.roller_radius)
 
-    def _contact(self, theta: Samples, sigma: int, s: Samples, ds: Samples,
-                 d2s: Samples) -> tuple[Samples, Samples]:
+    def _contact(self, theta: Values, sigma: int, s: Values, ds: Values, d2s: Values,
+                 out: Measures | None = None) -> tuple[Values, Values]:
         # _geometry's measures in closed form, on floats (one angle) or arrays: with p = d + s,
         # q = ds - sigma e (the pitch tangent is (sigma p, q)), tan phi = q / p and
         # rho_pitch = (p^2 + q^2)^1.5 / (p^2 + q^2 + q ds - p d2s).
         # Augmented assignments work in place on arrays (few temporaries) and on floats alike.
+        angle_out, radius_out = out or (None, None)
         p = s + self.prime_height
         q = ds - sigma * self.offset
-        angle = np.arctan2(q, p)
+        angle = np.arctan2(q, p, out=angle_out)
         speed2 = p * p
         speed2 += q * q
         q *= ds  # q and p are spent: q becomes the denominator
         q += speed2
         p *= d2s
         q -= p
-        radius = np.sqrt(speed2)
+        radius = np.sqrt(speed2, out=radius_out)
         radius *= speed2
         with np.errstate(divide='ignore'):  # an inflection of the pitch curve: infinite
             radius /= q
@@ -160,23 +163,31 @@ class TranslatingFlat:
         return Profile(theta, sigma, trace, contact, zero, trace_curvature, radius, ds,
                        np.array((zero, one)))
 
-    def _contact(self, theta: Samples, sigma: int, s: Samples, ds: Samples,
-                 d2s: Samples) -> tuple[Samples, Samples]:
-        # _geometry's measures in closed form, on floats or arrays: phi = 0, rho = Rb + s + d2s.
-        angle = 0.0 if isinstance(ds, float) else np.zeros_like(ds)
-        return angle, s + self.base_radius + d2s
+    def _contact(self, theta: Values, sigma: int, s: Values, ds: Values, d2s: Values,
+                 out: Measures | None = None) -> tuple[Array, Values]:
+        # _geometry's measures in closed form, on floats or arrays: phi = 0 (an array, 0-d for
+        # one angle), rho = Rb + s + d2s.
+        angle, radius_out = out or (np.empty_like(ds), None)
+        angle.fill(0.0)
+        radius = np.add(s, self.base_radius, out=radius_out)
+        radius += d2s
+        return angle, radius
 
 
-def _contact_from_geometry(follower: 'Follower', theta: Samples, sigma: int, s: Samples,
-                           ds: Samples, d2s: Samples) -> tuple[Samples, Samples]:
-    """Return the pressure angle and surface radius of the follower's full _geometry: the
-    _contact of a follower without a closed form of its own (one angle: as an array of one)."""
+def _contact_from_geometry(follower: 'Follower', theta: Values, sigma: int, s: Values,
+                           ds: Values, d2s: Values,
+                           out: Measures | None = None) -> tuple[Values, Values]:
+    """Return the pressure angle and surface radius of the follower's full _geometry (into out
+    if given): the _contact of a follower without a closed form (one angle: an array of one)."""
+    theta_, s_, ds_, d2s_ = [np.atleast_1d(value) for value in (theta, s, ds, d2s)]
+    profile = follower._geometry(theta_, sigma, s_, ds_, d2s_)
     if isinstance(theta, float):
-        one = (np.array([value]) for value in (s, ds, d2s))
-        angle, radius = _contact_from_geometry(follower, np.array([theta]), sigma, *one)
-        return float(angle[0]), float(radius[0])
-    profile = follower._geometry(theta, sigma, s, ds, d2s)
-    return profile.pressure_angle, profile.surface_radius
+        return float(profile.pressure_angle[0]), float(profile.surface_radius[0])
+    if out is None:
+        return profile.pressure_angle, profile.surface_radius
+    np.copyto(out[0], profile.pressure_angle)
+    np.copyto(out[1], profile.surface_radius)
+    return out
 
 
 def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:

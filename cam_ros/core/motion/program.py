@@ -18,7 +18,7 @@ from typing import Sequence
 import numpy as np
 import numpy.typing as npt
 
-from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray, Samples
+from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray, Values
 from ._law_base import LawValues
 from ..errors import InvalidParameter
 from .laws import Dwell
@@ -82,8 +82,8 @@ class ProgramValues:
         return TimeValues(self.s, *map(_read_only, timed))
 
 
-def time_derivatives(omega: float, ds: Samples, d2s: Samples,
-                     d3s: Samples) -> tuple[Samples, Samples, Samples]:
+def time_derivatives(omega: float, ds: Values, d2s: Values,
+                     d3s: Values) -> tuple[Values, Values, Values]:
     """Return velocity, acceleration and jerk at constant cam speed omega (rad/s) from the
     derivatives per rad; floats (one angle) or arrays."""
     speed = _speed(omega)
