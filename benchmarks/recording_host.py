@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import json
 import math
-import signal
 import statistics
 import subprocess
 import sys
@@ -63,7 +62,7 @@ DRAIN_S = 1.0
 #: per message; taken in batches), a reader in a process of its own (as `ros2 bag record`), the
 #: node's recording switch on.
 LOOP_MODES = ('off', 'bare', 'drain', 'remote', 'on')
-#: Longest wait for the remote reader to end after SIGINT (s).
+#: Longest wait for the remote reader to end once its stdin is closed (s).
 STOP_S = 10.0
 #: frame_id of the publish loop's messages (the node's own state messages say 'cam').
 LOOP_FRAME = 'bench_loop'
@@ -154,13 +153,14 @@ def publish_loop(publisher: Publisher, rate_hz: float, count: int) -> tuple[list
 
 
 def stop(process: subprocess.Popen) -> None:
-    """Stop a reader process as Ctrl-C would; kill it if it does not end."""
-    process.send_signal(signal.SIGINT)
+    """End the remote reader by closing its stdin; kill it if it does not end."""
+    process.stdin.close()
     try:
         process.wait(STOP_S)
     except subprocess.TimeoutExpired:
         process.kill()
         process.wait()
+    process.stdout.close()
 
 
 def switch_recording(node: CamNode, on: bool) -> None:
@@ -199,8 +199,11 @@ def loop(node: CamNode, topic: str, folder: str, rate_hz: float, count: int,
                                              ignore_batch).stop)
                 elif mode == 'remote':
                     reader = subprocess.Popen([sys.executable, '-m', 'benchmarks.remote_reader',
-                                               topic])
+                                               topic], stdin=subprocess.PIPE,
+                                              stdout=subprocess.PIPE, text=True)
                     stack.callback(stop, reader)
+                    if not json.loads(reader.stdout.readline() or '{}').get('matched'):
+                        raise SystemExit('remote: the reader never matched the publisher')
                 elif mode == 'on':
                     switch_recording(node, True)
                     stack.callback(switch_recording, node, False)
@@ -211,7 +214,8 @@ def loop(node: CamNode, topic: str, folder: str, rate_hz: float, count: int,
                 times, seconds = publish_loop(publisher, rate_hz, count)
                 busy[mode].extend(times)
                 cpu[mode].append(seconds)
-            wait_until(lambda: publisher.get_subscription_count() == subscribers)
+            if not wait_until(lambda: publisher.get_subscription_count() == subscribers):
+                raise SystemExit(f'{mode}: a reader stayed matched after the mode ended')
     reply(recorded_fraction=loop_messages_recorded(Path(folder), topic) / (rounds * count),
           **{mode: {'mean_us': statistics.fmean(busy[mode]) * 1e-3,
                     'p50_us': statistics.median(busy[mode]) * 1e-3,

@@ -13,7 +13,7 @@ from typing import cast
 import numpy as np
 import numpy.typing as npt
 
-from .cam_angles import cam_angle, cam_angles, cam_degrees
+from .cam_angles import cam_angle, cam_angles, cam_degrees, TWO_PI
 from .config.schema import CamConfig
 from .dynamics.flanks import form_closed_sides, Side, side_loads, SideLoads, side_values
 from .dynamics.follower import DynamicsValues, FollowerDynamics
@@ -29,7 +29,6 @@ from .geometry.closure import closure_check, ClosureCheck, conjugate_follower, g
 from .geometry.machining import cam_contour, Contour
 from .motion.program import Discontinuity, MotionProgram, time_derivatives
 
-TWO_PI = 2.0 * math.pi
 RollerFollower = TranslatingRoller | OscillatingRoller
 #: Added to a velocity jump's warning: it fails the verdict unless the config allows it.
 _VELOCITY_JUMP_NOTE = ('', ' (an infinite acceleration: set limits.allow_velocity_jumps: true '
@@ -130,6 +129,8 @@ class CamDesign:
         (theta_, s_, velocity, acceleration, jerk, ds_, d2s_, d3s_, pressure_angle_,
          radius_) = [np.array([value]) for value in (theta, s, *timed, ds, d2s, d3s,
                                                      pressure_angle, radius)]
+        for motion in (s_, velocity, acceleration, jerk, ds_, d2s_, d3s_):  # as a batch's
+            motion.flags.writeable = False
         forces = None if self.dynamics is None else self.dynamics.values(
             s_, ds_, d2s_, pressure_angle_, radius_)
         return CamState(theta_, s_, velocity, acceleration, jerk, ds_, d2s_, d3s_,

@@ -48,8 +48,11 @@ def test_one_angle_gives_the_batch_numbers_bit_for_bit(name):
         one = cam.evaluate([angle])
         for field in FIELDS:
             value = getattr(one, field)
+            expected = getattr(batch, field)
             assert value.shape == (1,), field
-            np.testing.assert_array_equal(value, getattr(batch, field)[index:index + 1],
+            assert (value.dtype, value.flags.writeable) == (
+                expected.dtype, expected.flags.writeable), field
+            np.testing.assert_array_equal(value, expected[index:index + 1],
                                           err_msg=f'{name}: {field} at {angle!r}')
         assert (one.dynamics is None) == (batch.dynamics is None)
         for field in FORCES if one.dynamics is not None else ():

@@ -162,6 +162,17 @@ def test_contact_measures_equal_the_geometry_in_blocks(follower_case, clockwise)
                                atol=EXACT * np.abs(expected).max())
 
 
+def test_contact_without_outputs_computes_what_contact_measures_writes(follower_case, clockwise):
+    """A follower's _contact without out= (fresh arrays) gives the numbers of the blocks."""
+    follower, rise = follower_case
+    theta = np.linspace(0.0, 2 * np.pi, 1001)
+    motion = rise_return(theta, rise)
+    fresh = follower._contact(theta, -1 if clockwise else 1, *motion)
+    for value, written in zip(fresh, contact_measures(follower, theta, *motion,
+                                                      clockwise=clockwise)):
+        np.testing.assert_array_equal(value, written)
+
+
 def test_a_conjugate_second_roller_takes_its_own_geometry_not_roller_1s_closed_form(clockwise):
     """ConjugateRoller is a TranslatingRoller below the cam centre: its contact is its own."""
     first = TranslatingRoller(0.04, 0.01, 0.005)
