@@ -35,7 +35,7 @@ WAIT_S = 10.0
 
 
 def main(args: Sequence[str] | None = None) -> int:
-    """Read TOPIC until Ctrl-C or SIGTERM."""
+    """Read TOPIC until stdin closes, Ctrl-C or SIGTERM."""
     argv = list(sys.argv if args is None else args)
     topic = remove_ros_args(argv)[1]
     serve_over_udp()

@@ -35,6 +35,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..arrays import Values
+from ..cam_angles import cam_angle, cam_angles
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..motion.program import MotionProgram, TWO_PI
@@ -59,7 +60,7 @@ class CamMapping:
     def cam_angle(self, master: npt.ArrayLike) -> Values:
         """Return the cam angle theta in [0, 2 pi) of master positions (rad); a float of one."""
         turns = self.turns(master)
-        return turns % TWO_PI if isinstance(turns, float) else np.mod(turns, TWO_PI)
+        return cam_angle(turns) if isinstance(turns, float) else cam_angles(turns)
 
     def turns(self, master: npt.ArrayLike) -> Values:
         """Return the cam angle before the modulo: (q - q0) / m (rad); a float of one."""
