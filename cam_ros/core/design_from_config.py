@@ -9,8 +9,9 @@ import math
 import re
 from typing import Callable
 
+from .cam_angles import TWO_PI
 from .config.schema import CamConfig
-from .design import CamDesign, TWO_PI
+from .design import CamDesign
 from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
 from .geometry.closure import second_roller_problem

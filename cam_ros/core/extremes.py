@@ -33,10 +33,11 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 import numpy.typing as npt
 
+from .cam_angles import TWO_PI
+
 Array = npt.NDArray[np.float64]
 Func = Callable[[Array], npt.ArrayLike]
 
-TWO_PI = 2.0 * math.pi
 #: Samples per revolution of the design checks (pressure angle, curvature, undercut, dynamics)
 #: from which extremes are refined.
 CHECK_SAMPLES = 7200

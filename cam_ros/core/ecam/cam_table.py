@@ -28,10 +28,10 @@ from typing import NamedTuple, Optional
 import numpy as np
 
 from ..arrays import FloatArray
+from ..cam_angles import TWO_PI
 from ..errors import InvalidParameter
 from ..motion.program import MotionProgram
 
-TWO_PI = 2.0 * math.pi
 INTERPOLATIONS = ('linear', 'cubic')
 #: Most knots a table may have (equidistant or placed).
 MAX_POINTS = 1_000_000

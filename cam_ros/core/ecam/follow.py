@@ -24,7 +24,7 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-from ..motion.program import TWO_PI
+from ..cam_angles import TWO_PI
 from .engage import Blend, Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, MasterState, Setpoints

@@ -21,8 +21,8 @@ import math
 import numpy as np
 
 from ..arrays import FloatArray
+from ..cam_angles import TWO_PI
 from .master import ElectronicCam
-from ..motion.program import TWO_PI
 
 #: Largest slave position difference (m, or rad of arm angle) at which two cams agree.
 POSITION_TOLERANCE = 1e-9

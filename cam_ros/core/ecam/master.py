@@ -35,10 +35,10 @@ import numpy as np
 import numpy.typing as npt
 
 from ..arrays import Values
-from ..cam_angles import cam_angle, cam_angles
+from ..cam_angles import cam_angle, cam_angles, TWO_PI
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
-from ..motion.program import MotionProgram, TWO_PI
+from ..motion.program import MotionProgram
 from .speed_estimate import SpeedEstimator
 
 #: Status of the master: none yet, messages arriving, silent for half the timeout, timed out.

@@ -25,7 +25,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..arrays import FloatArray
-from ..motion.program import TWO_PI
+from ..cam_angles import TWO_PI
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,6 +17,7 @@ from typing import Callable, ClassVar, Mapping, Sequence, TYPE_CHECKING
 import numpy as np
 
 from ..arrays import FloatArray
+from ..cam_angles import TWO_PI
 from ._law_base import full_like, InPlaceLaw, LawValues, MotionLaw
 from ._polynomial import (BoundaryPolynomial, Condition, Poly5, Poly7, Polynomial345,
                           Polynomial4567, Polynomial9, PolynomialLaw, PolynomialShape)
@@ -32,8 +33,6 @@ __all__ = [
     'Poly7', 'Polynomial345', 'Polynomial4567', 'Polynomial9', 'PolynomialLaw', 'PolynomialShape',
     'SccaLaw', 'SimpleHarmonic', 'TableLaw', 'ViaPointLaw',
 ]
-
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)

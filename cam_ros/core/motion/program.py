@@ -19,13 +19,12 @@ import numpy as np
 import numpy.typing as npt
 
 from ..arrays import BLOCK, checked_array, finite_float, float_array, FloatArray, Values
+from ..cam_angles import TWO_PI
 from ._law_base import LawValues
 from ..errors import InvalidParameter
 from .laws import Dwell
 from .segment import (check_segment, is_jump, POSITION_TOLERANCE, Segment, segment_into,
                       segment_values, segment_values_at, SegmentSummary, summarize)
-
-TWO_PI = 2.0 * math.pi
 #: Largest gap, overlap, or error of the 2 pi total, accepted between segments (rad).
 ANGLE_TOLERANCE = 1e-9
 
