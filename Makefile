@@ -26,7 +26,7 @@ $(VENV)/.deps.stamp: requirements.lock | $(PY)
 
 # The interface package is a real ament_cmake package, built straight into the venv with the venv's
 # CMake (the cmake wheel in requirements.lock), so no system CMake is needed.
-$(VENV)/.interfaces.stamp: $(VENV)/.deps.stamp $(wildcard cam_ros_interfaces/*.* cam_ros_interfaces/srv/*)
+$(VENV)/.interfaces.stamp: $(VENV)/.deps.stamp $(wildcard cam_ros_interfaces/*.* cam_ros_interfaces/msg/* cam_ros_interfaces/srv/*)
 	rm -rf $(IFACE_BUILD) && mkdir -p $(IFACE_BUILD)
 	prefix=$$(cd $(VENV) && pwd); export PATH="$$prefix/bin:$$PATH" AMENT_PREFIX_PATH="$$prefix"; \
 	$(CMAKE) -S cam_ros_interfaces -B $(IFACE_BUILD) -DCMAKE_PREFIX_PATH="$$prefix" \
