@@ -195,6 +195,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
                      derivatives: bool) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
     from cam_ros.output.cam_table_formats import cam_table_text, check_options, size_note
+    from cam_ros.output.rounding import ceil_sig
     from cam_ros.core.config.quantity import split_quantity
     from cam_ros.core.ecam.cam_table import equidistant_table, tolerance_table
 
@@ -219,10 +220,10 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     with writing('export', f'writing {target}', target):
         target.write_text(text, encoding='utf-8')
     within = '' if table.tolerance is None else \
-        f' within a tolerance of {number(table.tolerance * factor)} {unit}'
+        f' within a tolerance of {ceil_sig(table.tolerance * factor)} {unit}'
     print(f'wrote {target}: cam table of {len(table.master_deg) - (end_point is False)} '
           f'points ({table_format}, {interpolation} interpolation){within}, worst deviation '
-          f'{number(table.max_error * factor)} {unit}')
+          f'{ceil_sig(table.max_error * factor)} {unit}')
     note = size_note(table_format, len(table.master_deg) - (end_point is False))
     if note:
         print(f'note: {note}')

@@ -3,12 +3,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from cam_ros.commands.common import load_design, number, positive_quantity, verdict, writing
+from cam_ros.commands.common import load_design, positive_quantity, verdict, writing
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.geometry.arcs import fit_arcs, lines_only
 from cam_ros.core.geometry.machining import Contour, cutter_contours, place_points
 from cam_ros.core.program_from_config import in_file_units
 from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
+from cam_ros.output.rounding import ceil_sig
 
 
 def _restated(err: InvalidParameter, option: str, text: str,
@@ -63,7 +64,7 @@ def export_machining(config: str, output: str, cutter_radius: str | None,
     moves = (f', {sum(move.centre is not None for f in paths.values() for move in f.moves)} '
              f'arcs in {sum(len(f.moves) for f in paths.values())} moves' if arcs else '')
     print(f'wrote {target}: {what} of {count} points ({file_format}, {unit}{moves}), worst '
-          f'deviation {number(worst * per_metre)} {unit} within {number(limit * per_metre)} '
+          f'deviation {ceil_sig(worst * per_metre)} {unit} within {ceil_sig(limit * per_metre)} '
           f'{unit}')
     return verdict('export', design)
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.ecam.cam_table import CamTable
+from cam_ros.output.rounding import ceil_sig
 
 DEGREE = math.pi / 180.0
 #: Most points a SEW MOVI-C ST_PointsList takes (library parameter gc_uMaxNumberOfInterpPoints).
@@ -116,7 +117,7 @@ def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point
     unit, factor = design.config.file_position_unit
     steps = len(table.master_deg) - 1
     spacing = (f'placed for {table.interpolation} interpolation within a tolerance of '
-               f'{table.tolerance * factor:.6g} {unit} (greedy; segment boundaries are '
+               f'{ceil_sig(table.tolerance * factor)} {unit} (greedy; segment boundaries are '
                f'points)'
                if table.tolerance is not None else f'equidistant, every {360.0 / steps:.12g} deg')
     advance = design.program.advance * factor
@@ -132,7 +133,8 @@ def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point
         f'cam table of {source} from cam_ros: {rows} points over master 0-360 deg, {periodic}',
         f'points: {spacing}',
         f'interpolation assumed: {method}; worst deviation from the exact law '
-        f'{number(table.max_error * factor)} {unit} (dense check of every interval)',
+        f'{ceil_sig(table.max_error * factor)} {unit} (dense check of every interval, rounded '
+        'up)',
     ]
     if derivatives:
         notes.append('velocity and acceleration are per deg and per deg^2 of master (master '
