@@ -252,7 +252,59 @@ def test_reversal_behind_the_start(tmp_path, capsys):
     config = shear_with(tmp_path, 'reversal', start_position=[0.0, 20.0, 50.0, 40.0],
                         end_position=[20.0, 50.0, 40.0, 0.0], end_velocity=[NAN, NAN, 0.0, NAN],
                         end_acceleration=[NAN, NAN, -0.01, NAN])
-    refused(capsys, config, 'motion.end_position[2]', 'G-U', 'behind')
+    err = refused(capsys, config, 'motion.end_position[2]', 'G-U', 'behind')
+    # The quintic in mm and deg (the formula is unit-free): v0 = 0.5, a0 = 0, v1 = 0,
+    # a1 = -0.01, H = -10, X = 80; ds/dx peaks at its ends or where d2s/dx2 = 0.
+    low, high = quintic_velocity_range(-10.0, 80.0, (0.5, 0.0), (0.0, -0.01))
+    assert low < 0 < high
+    assert f'ds/dtheta from {low:.6g} mm/deg to {high:.6g} mm/deg' in err, err
+
+
+def quintic_velocity_range(stroke, span, start, end) -> tuple[float, float]:
+    """Return the least and largest slope of the quintic through (0, v0, a0), (H, v1, a1)."""
+    (v0, a0), (v1, a1), h, x = start, end, stroke, span
+    c3 = 10 * h - (6 * v0 + 4 * v1) * x - (3 * a0 - a1) * x ** 2 / 2
+    c4 = -15 * h + (8 * v0 + 7 * v1) * x + (3 * a0 - 2 * a1) * x ** 2 / 2
+    c5 = 6 * h - 3 * (v0 + v1) * x - (a0 - a1) * x ** 2 / 2
+    slope = np.polynomial.Polynomial([0, v0 * x, a0 * x ** 2 / 2, c3, c4, c5]).deriv() / x
+    z = [0.0, 1.0] + [r.real for r in slope.deriv().roots() if abs(r.imag) < 1e-12
+                      and 0 < r.real < 1]
+    return float(slope(z).min()), float(slope(z).max())
+
+
+def loop_config(tmp_path, name: str, end_acceleration: float) -> object:
+    """A motion-only program: a poly5 U-U loop 0-90 deg from 0 back to 0 mm with 0.01 mm/deg^2
+    at its start, then a poly5 to 20 mm and a cycloidal return."""
+    level = math.copysign(20.0, end_acceleration)
+    return write(tmp_path, name, {
+        'length_unit': 'mm', 'cam_speed': OMEGA, 'follower': {'type': 'none'},
+        'motion': {'laws': ['poly5', 'poly5', 'cycloidal'], 'start_deg': [0.0, 90.0, 200.0],
+                   'end_deg': [90.0, 200.0, 360.0], 'start_position': [0.0, 0.0, level],
+                   'end_position': [0.0, level, 0.0], 'start_velocity': [0.0, NAN, NAN],
+                   'end_velocity': [0.0, NAN, NAN], 'start_acceleration': [0.01, NAN, NAN],
+                   'end_acceleration': [end_acceleration, NAN, NAN]}})
+
+
+def test_a_zero_stroke_u_u_loop_peaks_at_its_closed_form(tmp_path, capsys):
+    """s = a X^2/2 z^2 (1 - z)^2: ds/dtheta = a X z (1 - z)(1 - 2 z), peaks +-a X / (6 sqrt 3)
+    = +-0.0866025 mm/deg for a = 0.01 mm/deg^2, X = 90 deg."""
+    code, data = report_json(capsys, loop_config(tmp_path, 'loop', 0.01))
+    assert code == 0
+    loop = data['segments'][0]
+    assert loop['task'] == 'U-U'
+    peak_mm_per_deg = 0.01 * 90.0 / (6 * math.sqrt(3))
+    assert peak_mm_per_deg == pytest.approx(0.0866025, abs=5e-8)
+    assert loop['peak_velocity'] == pytest.approx(peak_mm_per_deg * MM * PER_DEG * OMEGA,
+                                                  rel=EXACT_RTOL)
+    assert loop['cv'] == pytest.approx(16 / (3 * math.sqrt(3)), rel=EXACT_RTOL)
+
+
+def test_a_zero_stroke_loop_that_crosses_its_start_is_refused(tmp_path, capsys):
+    """With -0.01 mm/deg^2 at its end, s = a X^2/2 z^2 (1 - z)^2 (1 - 2 z) crosses its start."""
+    err = refused(capsys, loop_config(tmp_path, 'crossing', -0.01),
+                  'motion.end_acceleration[0] = -0.01', 'zero stroke', 'of one sign')
+    low, high = quintic_velocity_range(0.0, 90.0, (0.0, 0.01), (0.0, -0.01))
+    assert f'ds/dtheta from {low:.6g} mm/deg to {high:.6g} mm/deg' in err, err
 
 
 def test_inflection_on_poly5(tmp_path, capsys):

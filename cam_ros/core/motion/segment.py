@@ -192,9 +192,10 @@ def summarize(number: int, segment: Segment) -> SegmentSummary:
         getattr(law, 'inflection', 0.5), excess)
 
 
-def velocity_extremes(segment: Segment) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Return (value, u) of the largest and of the smallest ds/dtheta on a segment, refined."""
-    u = np.linspace(0.0, 1.0, VELOCITY_SAMPLES)
+def velocity_extremes(segment: Segment, low: float = 0.0,
+                      high: float = 1.0) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Return (value, u) of the largest and of the smallest ds/dtheta on u in [low, high]."""
+    u = np.linspace(low, high, VELOCITY_SAMPLES)
 
     def both(x: FloatArray) -> FloatArray:
         ds = segment_values(segment, x).y1

@@ -20,12 +20,16 @@ import math
 from dataclasses import dataclass
 from typing import Sequence
 
+import numpy as np
+
+from ..arrays import FloatArray
 from ..errors import InvalidParameter
+from ..extremes import refine_roots
 from ._polynomial import BoundaryPolynomial, Poly5, Poly7
 from .inflection import inflected
 from .laws import Dwell, MotionLaw
 from .segment import (check_fields, motion_task, natural_scale, Segment, segment_values,
-                      velocity_extremes)
+                      VELOCITY_SAMPLES, velocity_extremes)
 
 #: The boundary polynomials by name, and what the end fields are called.
 BOUNDARY_LAWS: dict[str, type[BoundaryPolynomial]] = {'poly5': Poly5, 'poly7': Poly7}
@@ -126,21 +130,54 @@ def _boundary(spec: TaskSpec, index: int, specs: Sequence[TaskSpec],
 
 
 def _check_reversal(segment: Segment, index: int) -> None:
-    """Refuse a task with a U end whose velocity changes sign inside the segment.
+    """Refuse a task with a U end whose velocity changes sign where it may not.
 
-    The refined largest and smallest ds/dtheta both beyond rounding: it runs both ways.
+    A segment with a stroke may not reverse inside (its refined largest and smallest ds/dtheta
+    both beyond rounding: it runs both ways); one of zero stroke is a loop and must reverse
+    exactly once, at its far point (_check_loop).
     """
     task = motion_task(segment)
     if 'U' not in task:
         return
-    (highest, _), (lowest, _) = velocity_extremes(segment)
     tolerance = MATCH_TOLERANCE * natural_scale(segment, 1)
+    if abs(segment.stroke) <= MATCH_TOLERANCE * natural_scale(segment, 0):
+        _check_loop(segment, index, task, tolerance)
+        return
+    (highest, _), (lowest, _) = velocity_extremes(segment)
     if highest > tolerance and lowest < -tolerance:
         raise InvalidParameter(
             f'segments[{index}].s_end', segment.s_end,
             f'a {task} segment reverses at its U end, but this one runs both ways (ds/dtheta '
-            f'from {lowest:.6g} to {highest:.6g} per rad^1): its reversal point lies behind its '
-            'start; the stroke must point the way the follower moves')
+            f'from {lowest:.6g} per rad^1 to {highest:.6g} per rad^1): its reversal point lies '
+            'behind its start; the stroke must point the way the follower moves')
+
+
+def _check_loop(segment: Segment, index: int, task: str, tolerance: float) -> None:
+    """Refuse a zero-stroke segment unless it runs out to one far point and straight back.
+
+    The far point is the sign change of ds/dtheta (refined) farthest from s_start; ds/dtheta
+    must keep the excursion's sign before it and the opposite sign after it (beyond rounding).
+    """
+    def velocity(u: FloatArray) -> FloatArray:
+        return segment_values(segment, u).y1
+
+    inner = np.linspace(0.0, 1.0, VELOCITY_SAMPLES)[1:-1]
+    turns = refine_roots(velocity, inner, velocity(inner), breaks=segment.law.breakpoints,
+                         period=None)
+    excursion = segment_values(segment, turns).y - segment.s_start
+    far = int(np.argmax(np.abs(excursion))) if turns.size else -1
+    ways = [velocity_extremes(segment, *half)
+            for half in ((0.0, turns[far]), (turns[far], 1.0))] if turns.size else []
+    sign = math.copysign(1.0, excursion[far]) if turns.size else 0.0
+    if not ways or min(sign * value for value, _ in ways[0]) < -tolerance or \
+            max(sign * value for value, _ in ways[1]) > tolerance:
+        (high, _), (low, _) = velocity_extremes(segment)
+        raise InvalidParameter(
+            f'segments[{index}].end_acceleration', float(segment_values(segment, 1.0).y2),
+            f'a {task} segment of zero stroke is a loop out to one far point and back, but this '
+            f'one turns {turns.size} times inside (ds/dtheta from {low:.6g} per rad^1 to '
+            f'{high:.6g} per rad^1): it must leave its start and come back to it from the same '
+            'side (a poly5 U-U: start and end accelerations of one sign)')
 
 
 def build_segments(specs: Sequence[TaskSpec]) -> tuple[Segment, ...]:
