@@ -6,18 +6,19 @@ import math
 import numpy as np
 import pytest
 
-from cam_ros.core.ecam.master import MasterTracker
 from cam_ros.core.ecam.cycle_clock import CycleClock, SETTLED
-from cam_ros.core.ecam.speed_estimate import fit_speed
+from cam_ros.core.ecam.speed_estimate import fit_speed, SpeedEstimator
 
-SECOND = 10 ** 9
 RPM = 2 * math.pi / 60
 
 
-def run(tracker, stamps, positions):
-    """Feed samples; return the estimated omegas and alphas."""
-    states = [tracker.accept(int(t), float(q), None, int(t)) for t, q in zip(stamps, positions)]
-    return np.array([s.omega for s in states]), np.array([s.alpha for s in states])
+def run(window_s, stamps, positions):
+    """Feed samples to an estimator of window window_s; return the estimated omegas and alphas."""
+    estimator, estimates = SpeedEstimator(int(window_s * 1e9)), []
+    for t, q in zip(stamps.tolist(), positions.tolist()):
+        estimator.add(t, q)
+        estimates.append(estimator.estimate())
+    return np.array(estimates).T
 
 
 @pytest.mark.parametrize('window_s', [0.0, 0.02, 0.05])
@@ -26,7 +27,7 @@ def test_exact_for_constant_acceleration_at_irregular_stamps(window_s):
     stamps = np.cumsum(rng.integers(2_000_000, 6_000_000, 200))
     t = stamps * 1e-9
     q, omega, alpha = 3.0 + 40.0 * t - 7.5 * t ** 2, 40.0 - 15.0 * t, -15.0
-    got_omega, got_alpha = run(MasterTracker(SECOND, window_ns=int(window_s * 1e9)), stamps, q)
+    got_omega, got_alpha = run(window_s, stamps, q)
     np.testing.assert_allclose(got_omega[2:], omega[2:], rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(got_alpha[2:], alpha, rtol=1e-6)
 
@@ -46,11 +47,13 @@ def test_the_delay_under_jerk_is_as_documented():
     jerk, window = 500.0, 0.05
     stamps = np.arange(0, 2001) * 50_000  # dense and even: the continuous-window figures
     t = stamps * 1e-9
-    omega, alpha = run(MasterTracker(SECOND, window_ns=int(window * 1e9)), stamps,
-                       jerk * t ** 3 / 6)
+    omega, alpha = run(window, stamps, jerk * t ** 3 / 6)
     now = t[-1]
     assert alpha[-1] == pytest.approx(jerk * (now - window / 2), rel=2e-3)
     assert omega[-1] - jerk * now ** 2 / 2 == pytest.approx(-jerk * window ** 2 / 10, rel=2e-2)
+
+
+SEEDS = range(200)  # a jitter bound needs many draws: one seed's worst is a median's
 
 
 def jittered(count, seed, period_ns=4_000_000, jitter_ns=200_000):
@@ -64,28 +67,31 @@ def speed_errors(nominal, stamps, window_s):
     """Relative speed errors of an accelerating master sampled on nominal, stamped stamps."""
     t = nominal * 1e-9
     positions, speeds = 600 * RPM * t + 2.0 * t ** 2, 600 * RPM + 4.0 * t
-    omega, _ = run(MasterTracker(SECOND, window_ns=int(window_s * 1e9)), stamps, positions)
+    omega, _ = run(window_s, stamps, positions)
     return np.abs(omega / speeds - 1.0)
 
 
 def test_a_window_averages_stamp_jitter_and_the_cycle_clock_removes_it(report):
-    nominal, stamps = jittered(2000, seed=3)  # 250 Hz, +-0.2 ms, 600 rpm and speeding up
+    nominal, stamps = jittered(2 * SETTLED, seed=3)  # 250 Hz, +-0.2 ms, 600 rpm and speeding up
     three = speed_errors(nominal, stamps, 0.0)[20:]
-    window = speed_errors(nominal, stamps, 0.05)
-    before, after = window[20:SETTLED], window[SETTLED:]
     report('three-point speed error max', f'{three.max():.2%}')
+    assert three.max() > 0.1  # the issue's 21 %: three stamps cannot average
+    window = np.array([speed_errors(*jittered(2 * SETTLED, seed), 0.05) for seed in SEEDS])
+    full = 50_000_000 // 4_000_000  # the first message whose window spans 0.05 s (12 cycles)
+    start, before, after = window[:, 4:full], window[:, full:SETTLED], window[:, SETTLED:]
+    report(f'0.05 s window, {len(SEEDS)} seeds, messages 4-{full - 1}: speed error max',
+           f'{start.max():.2%}')
     report('0.05 s window, clock settling: speed error max', f'{before.max():.2%}')
     report('0.05 s window, clock settled: speed error max', f'{after.max():.3%}')
-    assert three.max() > 0.1  # the issue's 21 %: three stamps cannot average
-    assert np.sqrt(np.mean(before ** 2)) <= 0.01 and before.max() <= 0.035
-    assert after.max() <= 0.005  # the issue asks 2 %
+    assert start.max() <= 0.04
+    assert before.max() <= 0.007  # the issue asks 2 % from the first full window on
+    assert after.max() <= 0.0004
 
 
 def test_exact_stamps_of_samples_off_the_cycle_stay_exact():
     nominal, stamps = jittered(1000, seed=4)  # sampled late or early, stamped truly
     t = stamps * 1e-9
-    omega, alpha = run(MasterTracker(SECOND, window_ns=50_000_000), stamps,
-                       3.0 + 40.0 * t - 7.5 * t ** 2)
+    omega, alpha = run(0.05, stamps, 3.0 + 40.0 * t - 7.5 * t ** 2)
     np.testing.assert_allclose(omega[2:], 40.0 - 15.0 * t[2:], rtol=1e-9)
     np.testing.assert_allclose(alpha[2:], -15.0, rtol=1e-6)
 
@@ -107,22 +113,38 @@ def test_the_cycle_clock_returns_exact_cycles_as_they_are_and_smooths_jitter():
     clock = CycleClock()
     stamps = 1_700_000_000_000_000_000 + np.arange(300) * 4_000_000  # epoch-sized stamps
     assert [clock.time(stamp) for stamp in stamps.tolist()] == stamps.tolist()
+    assert clock.exact and clock.period == 4_000_000 and clock.cycle == 299
     nominal, jittery = jittered(1000, seed=9)
     clock = CycleClock()
     times = np.array([clock.time(stamp) for stamp in jittery.tolist()])
-    assert clock.settled
+    assert clock.samples == 1000 and not clock.exact  # followed throughout, no restart
     intervals = np.abs(np.diff(times) - 4_000_000)[SETTLED:]
     assert intervals.max() < 0.02 * np.abs(np.diff(jittery) - 4_000_000)[SETTLED:].max()
     deviation = np.abs(times - nominal)[4 * SETTLED:]  # the offset takes longer to settle
     assert deviation.max() < 0.25 * np.abs(jittery - nominal)[4 * SETTLED:].max()
 
 
+def test_the_cycle_clock_starts_as_the_least_squares_line_and_counts_lost_cycles():
+    _, stamps = jittered(SETTLED, seed=10)
+    clock, offsets = CycleClock(), stamps - stamps[0]
+    for count, stamp in enumerate(stamps.tolist(), 1):
+        time = clock.time(stamp)
+        if 2 <= count <= 90:  # the start-up gains (the loop's own from about 100 samples)
+            slope, intercept = np.polyfit(np.arange(count), offsets[:count], 1)
+            assert clock.period == pytest.approx(slope, abs=1e-5)
+            assert time - stamps[0] == pytest.approx(intercept + slope * (count - 1), abs=1)
+    nominal, stamps = jittered(3 * SETTLED, seed=11)
+    kept = np.flatnonzero(np.random.default_rng(12).random(nominal.size) > 0.1)  # 10 % lost
+    clock = CycleClock()
+    assert [(clock.time(stamp), clock.cycle)[1] for stamp in stamps[kept].tolist()] == \
+        (kept - kept[0]).tolist()
+
+
 def test_samples_bunched_at_one_end_give_the_least_squares_line():
     times = [1, 2, 3, 1_000_000_003]  # probes a nanosecond apart, then a sample 1 s later
-    positions = [0.0, 0.0, 0.0, 2.0]  # less than half a turn: the tracker unwraps steps
+    positions = [0.0, 0.0, 0.0, 2.0]
     slope, _ = np.polyfit((np.array(times) - times[-1]) * 1e-9, positions, 1)
     omega, alpha, _ = fit_speed(times, positions)
     assert omega == pytest.approx(slope, rel=1e-9) and alpha == 0.0
-    tracker = MasterTracker(10 * SECOND, window_ns=SECOND // 20)
-    states = [tracker.accept(t, q, None, t) for t, q in zip(times, positions)]
-    assert states[-1].omega == pytest.approx(slope, rel=1e-9)
+    omegas, _ = run(0.05, np.array(times), np.array(positions))
+    assert omegas[-1] == pytest.approx(slope, rel=1e-9)

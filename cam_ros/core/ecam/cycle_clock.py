@@ -9,9 +9,10 @@ predicts each sample's time one cycle on (a whole number of cycles after lost me
 the prediction by a fraction of the stamp's error, the period by a smaller one (a second-order
 delay-locked loop, F. Adriaensen, "Using a DLL to filter time", 2005, as JACK's audio clock).
 It starts with the gains of a least-squares line through all samples so far (the expanding-memory
-alpha-beta filter) and narrows to its own once those are smaller, so it locks within about a
-hundred samples whatever the first interval says.
-Whether its times or the stamps explain the positions better, SpeedEstimator decides.
+alpha-beta filter: its time and period are that line's until about the hundredth sample) and
+narrows to its own once those are smaller, so it locks within about a hundred samples whatever the
+first interval says. It counts the samples' cycles: SpeedEstimator fits positions against them
+(times cycle x period) or against the stamps, whichever the positions follow better.
 """
 from __future__ import annotations
 
@@ -42,20 +43,26 @@ class CycleClock:
         self._period = 0.0  # ns, 0 until the second sample
         self._spread = 0.0  # mean square stamp error (ns^2), smoothed like the loop
         self.samples = 0
+        self.cycle = 0  # of the last sample, counted from the origin
 
     @property
-    def settled(self) -> bool:
-        """Say whether the loop has followed the cycle for SETTLED samples."""
-        return self.samples >= SETTLED
+    def period(self) -> float:
+        """Return the loop's period (ns; 0 before the second sample)."""
+        return self._period
+
+    @property
+    def exact(self) -> bool:
+        """Say whether every stamp since the origin fell on the loop's cycle exactly."""
+        return self._spread == 0.0
 
     def time(self, stamp_ns: int) -> int:
-        """Take the stamp of the next sample; return the loop's time for it (ns)."""
+        """Take the next sample's stamp and count its cycle; return the loop's time for it (ns)."""
         if self._origin is None:
-            self._origin, self._time, self.samples = stamp_ns, 0.0, 1
+            self._origin, self._time, self.samples, self.cycle = stamp_ns, 0.0, 1, 0
             return stamp_ns
         t = float(stamp_ns - self._origin)
         if self._period <= 0.0:
-            self._period, self._time, self.samples = t - self._time, t, 2
+            self._period, self._time, self.samples, self.cycle = t - self._time, t, 2, 1
             return stamp_ns
         cycles = max(1, round((t - self._time) / self._period))
         error = t - (self._time + cycles * self._period)
@@ -64,6 +71,7 @@ class CycleClock:
             self.reset()
             return self.time(stamp_ns)
         self.samples += 1
+        self.cycle += cycles
         k = self.samples
         self._time += cycles * self._period + max(_TIME_GAIN, 2.0 * (2 * k - 1) / (k * (k + 1))) \
             * error
