@@ -20,8 +20,12 @@ accept any real angle (periodic functions are evaluated at angles outside [0, pe
 wrap, e.g. -1e-4). theta is strictly increasing (one period [t0, t0 + period) when periodic) and
 values = func(theta) (or the same quantity computed another way). breaks are the angles where
 func or a derivative jumps (segment joints and law breakpoints, any order): a bracket holding a
-break is split there and each side is searched up to BREAK_GAP of the break, so one-sided limits
-count and a jump is never mistaken for a smooth peak. period=None treats theta as an open range.
+break, or ending at one (a joint on a sample), is split there and each side is searched up to
+BREAK_GAP of the break, never at it (the angle of a joint belongs to the segment after it). At a
+side's end next to a break the one-sided limit is the candidate: extrapolated from two values a
+gap apart, it is exact to rounding (the value at the gap itself falls short by the slope times
+the gap, on the lenient side of a limit), so both one-sided limits at every break count and a
+jump is never mistaken for a smooth peak. period=None treats theta as an open range.
 
 Pure NumPy; vectorised over brackets (one call of func per iteration).
 """
@@ -80,12 +84,16 @@ def _neighbours(t: Array, v: Array, period: Optional[float]) -> tuple[Array, ...
             np.concatenate((t[1:], t[:1] + period)), np.roll(v, -1))
 
 
-def _pieces(low: Array, high: Array, breaks: Array, gap: float) -> tuple[Array, Array]:
-    """Split the brackets [low, high] at the breaks inside them; keep gap away from each break.
+def _pieces(low: Array, high: Array, breaks: Array,
+            gap: float) -> tuple[Array, Array, Array, Array]:
+    """Split the brackets [low, high] at the breaks in them; keep gap away from each break.
 
-    Overlapping brackets are merged into their union. Returns the pieces' ends.
+    Overlapping brackets are merged into their union. A break at a bracket's end counts too:
+    a bracket ending at a joint is searched up to gap before it, on the segment that ends
+    there, not at the joint (which the next segment owns). Returns the pieces' ends a, b and
+    the breaks they were moved off (nan where an end is no break's).
     """
-    inner = breaks[(breaks > low.min()) & (breaks < high.max())]
+    inner = breaks[(breaks >= low.min()) & (breaks <= high.max())]
     edges = np.unique(np.concatenate((low, high, inner)))
     a, b = edges[:-1], edges[1:]
     middle = 0.5 * (a + b)
@@ -93,10 +101,20 @@ def _pieces(low: Array, high: Array, breaks: Array, gap: float) -> tuple[Array, 
                - np.searchsorted(np.sort(high), middle, side='left')) > 0
     a, b = a[covered], b[covered]
     is_break = np.isin(edges, inner)
+    from_a = np.where(is_break[:-1][covered], a, np.nan)
+    from_b = np.where(is_break[1:][covered], b, np.nan)
     a = np.where(is_break[:-1][covered], a + gap, a)
     b = np.where(is_break[1:][covered], b - gap, b)
     keep = b >= a
-    return a[keep], b[keep]
+    return a[keep], b[keep], from_a[keep], from_b[keep]
+
+
+def _nearest(cuts: Array, angles: Array) -> Array:
+    """Return the break (of the sorted cuts, at least one) nearest to each angle."""
+    padded = np.concatenate(([-np.inf], cuts, [np.inf]))
+    right = np.searchsorted(padded, angles)
+    low, high = padded[right - 1], padded[right]
+    return np.where(angles - low <= high - angles, low, high)
 
 
 def _extended_breaks(breaks: Optional[Sequence[float] | Array],
@@ -115,21 +133,37 @@ def _gap(t: Array, period: Optional[float]) -> float:
     return BREAK_GAP * _EPS * max(scale, 1.0)
 
 
-def _golden(score: Callable[[Array], Array], a: Array, b: Array) -> tuple[Array, Array]:
+def _one_sided(f_end: Array, f_near: Array, end: Array, near: Array, cut: Array) -> Array:
+    """Return the limit at the break cut of a score sampled at end and near (further in).
+
+    Linear extrapolation over the gap: exact to rounding for a smooth score, where the value at
+    end alone falls short by the slope times the gap. f_end where cut is nan or near left the
+    piece (near == end).
+    """
+    with np.errstate(invalid='ignore', divide='ignore'):
+        limit = f_end + (f_end - f_near) * (end - cut) / (near - end)
+    return np.where(np.isfinite(cut) & (near != end), limit, f_end)
+
+
+def _golden(score: Callable[[Array], Array], a: Array, b: Array, from_a: Array,
+            from_b: Array) -> tuple[Array, Array]:
     """Return (best score, its angle) of every bracket [a, b], maximising score.
 
     score maps angles of shape (k, brackets) to scores of that shape. Golden section narrows
     each bracket to POLISH_WIDTH, then one parabolic step through the best three points lands on
-    a smooth peak. The ends count as candidates, so an extreme at a bracket end (a break) is
-    found exactly.
+    a smooth peak. The ends count as candidates; an end moved off a break (from_a, from_b; nan
+    for none) scores the one-sided limit there, so an extreme at a break is found exactly.
     """
     width = float(np.max(b - a)) if a.size else 0.0
     steps = (math.ceil(math.log(POLISH_WIDTH / width) / math.log(_GOLDEN))
              if width > POLISH_WIDTH else 0)
     ends = np.stack((a, b))
     c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    fc, fd, fa, fb = score(np.stack((c, d, a, b)))
-    f_ends = np.stack((fa, fb))
+    near_a = np.where(np.isfinite(from_a) & (2.0 * a - from_a <= b), 2.0 * a - from_a, a)
+    near_b = np.where(np.isfinite(from_b) & (2.0 * b - from_b >= a), 2.0 * b - from_b, b)
+    fc, fd, fa, fb, f_near_a, f_near_b = score(np.stack((c, d, a, b, near_a, near_b)))
+    f_ends = np.stack((_one_sided(fa, f_near_a, a, near_a, from_a),
+                       _one_sided(fb, f_near_b, b, near_b, from_b)))
     for _ in range(steps):
         left = fc >= fd  # the peak is in [a, d]: d becomes the right end
         a, fa = np.where(left, a, c), np.where(left, fa, fc)
@@ -193,13 +227,12 @@ def refine_extrema(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike,
     rows = signs.size
     t, v = _grid(theta, values, rows)
     cuts, gap = _extended_breaks(breaks, period), _gap(t, period)
-    lows, highs, owners, tops = [], [], [], []
+    found: list[tuple[Array, ...]] = []
+    owners, tops = [], []
     for row in range(rows):  # one pass per function (a few), vectorised over the samples
         low, high, top = _brackets(t, signs[row] * v[row], period)
-        a, b = _pieces(low, high, cuts, gap)
-        lows.append(a)
-        highs.append(b)
-        owners.append(np.full(a.size, row))
+        found.append(_pieces(low, high, cuts, gap))
+        owners.append(np.full(found[-1][0].size, row))
         tops.append(top)
     owner = np.concatenate(owners)
     columns = np.arange(owner.size)
@@ -208,7 +241,7 @@ def refine_extrema(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike,
         found = _call(func, points.reshape(-1)).reshape(rows, points.shape[0], -1)
         return signs[owner] * found[owner, :, columns].T
 
-    scores, angles = _golden(score, np.concatenate(lows), np.concatenate(highs))
+    scores, angles = _golden(score, *(np.concatenate(ends) for ends in zip(*found)))
     results = []
     for row, top in enumerate(tops):
         mine = owner == row
@@ -256,12 +289,16 @@ def refine_roots(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, *,
         return np.sort(exact)
     cuts = _extended_breaks(breaks, period)
     gap = _gap(t, period)
-    a, b = _pieces(t[change], right_t[change], cuts, gap)
+    a, b, _, _ = _pieces(t[change], right_t[change], cuts, gap)
+    ends = np.concatenate((t[change], right_t[change]))
+    on_breaks = np.unique(ends[np.isin(ends, cuts)])  # samples at a break: the side they own
+    order = np.argsort(np.concatenate((a, on_breaks)), kind='stable')
+    a, b = np.concatenate((a, on_breaks))[order], np.concatenate((b, on_breaks))[order]
     f_ends = _call(func, np.concatenate((a, b)))
     fa, fb = f_ends[:a.size], f_ends[a.size:]
     inside = fa * fb < 0.0
     across = (fb[:-1] * fa[1:] < 0.0) & (a[1:] - b[:-1] <= 2.0 * gap * (1.0 + 1e-9) + _EPS)
-    jumps = 0.5 * (b[:-1] + a[1:])[across]
+    jumps = _nearest(cuts, 0.5 * (b[:-1] + a[1:])[across])
     low, high, f_low = a[inside], b[inside], fa[inside]
     width = float(np.max(high - low)) if low.size else 0.0
     floor = 2.0 * _EPS * float(np.max(np.abs(t)))

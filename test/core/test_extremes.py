@@ -10,6 +10,7 @@ from cam_ros.core.extremes import refine_extrema, refine_extremum, refine_roots
 TWO_PI = 2.0 * math.pi
 GRID = np.linspace(0.0, TWO_PI, 7200, endpoint=False)
 STEP = GRID[1]
+EPS = np.finfo(float).eps
 
 
 def sampled(func, theta=GRID):
@@ -70,9 +71,54 @@ def test_one_sided_limit_at_a_jump():
         return np.where(x < c, x, x - 5.0)
 
     value, angle = refine_extremum(func, *sampled(func), 'max', breaks=[c])
-    assert value == pytest.approx(c, abs=1e-13)
-    assert value < c
+    assert value == pytest.approx(c, rel=2 * EPS, abs=0.0)  # the limit, not c - gap
+    assert angle < c
     assert angle == pytest.approx(c, abs=1e-13)
+
+
+@pytest.mark.parametrize('index', [0, 2400, 7199])
+def test_one_sided_limit_at_a_break_on_a_sample(index):
+    # The break is a sample (a joint at a round angle): the sample there is the right side's,
+    # the maximum is the left limit, reached from the left up to the break.
+    c = GRID[index] if index else TWO_PI
+
+    def func(x):
+        x = np.mod(x, TWO_PI)
+        x = np.where(x == 0.0, TWO_PI, x) if index == 0 else x
+        return np.where(x < c, np.exp(x - c), 0.5 - 0.1 * (x - c))
+
+    theta, values = sampled(func)
+    assert values.max() < 1.0 - 1e-4  # the grid misses the left limit by a whole step
+    value, angle = refine_extremum(func, theta, values, 'max', breaks=[GRID[index]])
+    assert value == pytest.approx(1.0, rel=4 * EPS, abs=0.0)  # exact, not exp(-gap)
+    assert np.mod(angle - c + 1.0, TWO_PI) == pytest.approx(1.0, abs=1e-13)
+    minimum, at = refine_extremum(lambda x: -func(x), theta, -values, 'min',
+                                  breaks=[GRID[index]])
+    assert minimum == -value
+
+
+def test_one_sided_limit_from_the_right_at_a_sample_is_the_sample():
+    c = GRID[3000]
+
+    def func(x):
+        return np.where(x < c, x - c, 2.0 - np.square(x - c))
+
+    value, angle = refine_extremum(func, *sampled(func), 'max', breaks=[c])
+    assert value == 2.0
+    assert angle == pytest.approx(c, abs=1e-13)
+
+
+def test_roots_at_jumps_on_samples_are_the_breaks():
+    # +1 up to the first break, -1 up to the second, +1 again: both sign changes are jumps at
+    # samples, each the end of its grid interval.
+    first, second = GRID[1000], GRID[4000]
+
+    def func(x):
+        x = np.mod(x, TWO_PI)
+        return np.where((x >= first) & (x < second), -1.0, 1.0) + 0.0 * x
+
+    roots = refine_roots(func, *sampled(func), breaks=[first, second])
+    np.testing.assert_array_equal(roots, [first, second])
 
 
 def test_kink_minimum_at_a_break():
