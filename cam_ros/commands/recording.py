@@ -13,6 +13,8 @@ from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.commands.ros import DEFAULT_TIMEOUT_S, request_once, ros_node
 
 if TYPE_CHECKING:
+    from cam_ros.recording import Recording
+    from cam_ros.recording.engage_replay import EngageCall
     from cam_ros.recording.parameter_replay import ParameterEvent
 
 #: Seconds replay waits by default for every topic to have a subscriber (fresh ones need time
@@ -35,42 +37,65 @@ class _Rejected(Exception):
 
 def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
            loop: bool = False, wait: float = DEFAULT_WAIT_S,
-           apply_parameters: bool = False) -> int:
-    """Publish a recording back with its recorded QoS and timing; Ctrl-C stops it."""
+           apply_parameters: bool = False, outputs: bool = False) -> int:
+    """
+    Publish a recording back with its recorded QoS and timing; Ctrl-C stops it.
+
+    Without --topics: the recording node's inputs (its outputs too with --outputs), and its
+    ~/engage calls made again at their master messages; what is left out is said on stderr.
+    """
     from cam_ros.recording import open_recording, parameter_changes, replay as replay_recording
-    from cam_ros.recording.parameter_replay import (at_master_messages, parameter_events,
-                                                    ParameterSchedule)
+    from cam_ros.recording.engage_replay import EngageCall, engage_calls, engage_topics
+    from cam_ros.recording.parameter_replay import at_master_messages, parameter_events
     from cam_ros.recording.parameters import PARAMETER_EVENTS_TOPIC
+    from cam_ros.recording.replay import default_topics
+    from cam_ros.recording.schedule import Schedule
 
     if apply_parameters and loop:
         raise InvalidParameter('--apply-parameters', True, 'cannot go with --loop: the '
                                'changes are made once, in recorded order')
+    if outputs and topics is not None:
+        raise InvalidParameter('--outputs', True, 'cannot go with --topics, which names '
+                               'exactly the topics to publish')
     recording = open_recording(path)
-    if apply_parameters and topics is None:  # the node says its own changes
-        topics = [name for name in recording.topics if name != PARAMETER_EVENTS_TOPIC]
-    total = sum(recording.topics[name].count for name in topics or recording.topics
-                if name in recording.topics)
-    published = 0
+    calling = engage_topics(recording)
+    if topics is None:
+        published = default_topics(recording, outputs)
+        if apply_parameters:  # the node says its own changes
+            published = [name for name in published if name != PARAMETER_EVENTS_TOPIC]
+    else:
+        published = [name for name in topics if name not in calling]
+        calling = [name for name in calling if name in topics]
+    calls = engage_calls(recording, calling)
+    events = parameter_events(parameter_changes(recording))
+    _say_plan(recording, published, calls, len(events), topics is None and not outputs,
+              apply_parameters)
+    total = sum(recording.topics[name].count for name in published if name in recording.topics)
+    shown = 0
 
     def show(message: object) -> None:
-        nonlocal published
-        published += 1
-        progress('replay', f'{published} of {total} messages' + (' (looping)' if loop else ''))
+        nonlocal shown
+        shown += 1
+        progress('replay', f'{shown} of {total} messages' + (' (looping)' if loop else ''))
 
     stop = threading.Event()
     with ros_node('replay') as (node, executor):
-        schedule = None
-        if apply_parameters:
-            def apply(event: ParameterEvent) -> None:
-                _set_atomically(node, executor, event)
-            events = parameter_events(parameter_changes(recording))
-            schedule = ParameterSchedule(at_master_messages(events, recording), apply)
+        def apply(item: ParameterEvent | EngageCall) -> None:
+            if isinstance(item, EngageCall):
+                _call_engage(node, executor, item)
+            else:
+                _set_atomically(node, executor, item)
+
+        due = at_master_messages(events, recording) if apply_parameters else []
+        schedule = Schedule(sorted([*due, *calls], key=lambda item: item.time_ns), apply)
         # Ctrl-C sets stop: a KeyboardInterrupt inside publish() could leave its handle held.
         previous = signal.signal(signal.SIGINT, lambda signum, frame: stop.set())
         try:
-            count = replay_recording(recording, node, rate=rate, topics=topics, loop=loop,
+            count = replay_recording(recording, node, rate=rate, topics=published, loop=loop,
                                      on_message=show, wait_for_subscribers=wait, stop=stop,
                                      before_message=schedule)
+            if not (loop or stop.is_set()):
+                schedule.finish()
         except _Rejected as err:
             end_progress()
             say('replay', str(err))
@@ -80,6 +105,36 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
             end_progress()
     print(f'published {count} messages from {path}')
     return EXIT_OK
+
+
+def _say_plan(recording: Recording, published: Sequence[str], calls: Sequence[EngageCall],
+              changes: int, inputs_only: bool, apply_parameters: bool) -> None:
+    """Say on stderr what the replay publishes, calls and leaves out (nothing when it is all)."""
+    from cam_ros.recording.mcap_file import OUTPUTS_RECORD
+
+    left = [name for name in sorted(recording.outputs or ())
+            if inputs_only and name in recording.topics and name not in published
+            and recording.topics[name].count]
+    lines = []
+    if calls:
+        services = ', '.join(sorted({call.service for call in calls}))
+        lines.append(f'calling {services} as recorded ({len(calls)} '
+                     f'call{"s" * (len(calls) != 1)}), each before the master message the '
+                     'recorded node took it at')
+    if left:
+        node = recording.metadata[OUTPUTS_RECORD].get('node', 'the recording node')
+        lines.append(f'leaving out the outputs of {node} (--outputs publishes them): '
+                     + ', '.join(left))
+    elif inputs_only and recording.outputs is None:
+        lines.append('the recording does not name its node\'s outputs: publishing every topic')
+    if changes and not apply_parameters:
+        lines.append(f'not setting the recorded parameter changes ({changes} '
+                     f'set{"s" * (changes != 1)}; --apply-parameters makes them)')
+    if lines:
+        say('replay', 'publishing ' + (', '.join(
+            f'{name} ({recording.topics[name].count})' for name in published) or 'nothing'))
+    for line in lines:
+        say('replay', line)
 
 
 def _set_atomically(node: Any, executor: Any, event: ParameterEvent) -> None:
@@ -97,6 +152,21 @@ def _set_atomically(node: Any, executor: Any, event: ParameterEvent) -> None:
     if not response.result.successful:
         raise _Rejected(f'{event.node} rejected the recorded change of {names} at log time '
                         f'{event.time_ns} ns: {response.result.reason}')
+
+
+def _call_engage(node: Any, executor: Any, call: EngageCall) -> None:
+    """Make one recorded ~/engage call; raise _Rejected unless answered as recorded."""
+    from std_srvs.srv import SetBool
+
+    response, problem = request_once(node, executor, SetBool, call.service,
+                                     SetBool.Request(data=call.engage),
+                                     time.monotonic() + DEFAULT_TIMEOUT_S, DEFAULT_TIMEOUT_S)
+    if response is None:
+        raise _Rejected(f'recorded call {call.service} {str(call.engage).lower()}: {problem}')
+    if response.success != call.success:
+        raise _Rejected(f'{call.service} {str(call.engage).lower()} answered '
+                        f'{response.success} ({response.message}); the recorded node answered '
+                        f'{call.success} ({call.message})')
 
 
 def recover(path: str, output: str | None = None, in_place: bool = False) -> int:

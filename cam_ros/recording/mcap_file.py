@@ -1,7 +1,7 @@
 """The MCAP file of a recording as rosbag2 writes it; no ROS import (for the writer process)."""
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 import os
 from pathlib import Path
 import time
@@ -20,6 +20,9 @@ DEFAULT_CHUNK_SIZE = 64 * 1024
 #: Version of the rosbag2 bag metadata written (Jazzy).
 METADATA_VERSION = 9
 PROFILE = 'ros2'
+#: Metadata record naming the recording node ('node') and the recorded topics it publishes
+#: itself ('topics', space-separated): its outputs, which a replay leaves out unless asked.
+OUTPUTS_RECORD = 'cam_ros_outputs'
 LIBRARY = f'cam_ros recorder; {LIBRARY_IDENTIFIER}'
 #: Attachment media types by file suffix; anything else is text/plain.
 MEDIA_TYPES = {'.yaml': 'application/yaml', '.yml': 'application/yaml',
@@ -81,7 +84,8 @@ class FileSpec:
     """Everything a recording's file holds besides its messages (picklable, no ROS types).
 
     `topics` are rosbag2 topic_metadata mappings, `channel_qos` each topic's
-    'offered_qos_profiles' channel metadata text, `schemas` the ros2msg text of each type.
+    'offered_qos_profiles' channel metadata text, `schemas` the ros2msg text of each type,
+    `outputs` the OUTPUTS_RECORD (empty: none written).
     """
 
     name: str
@@ -93,6 +97,7 @@ class FileSpec:
     attachments: Mapping[str, str]
     description: Mapping[str, str]
     opened_ns: int
+    outputs: Mapping[str, str] = field(default_factory=dict)
 
 
 class McapFile:
@@ -117,6 +122,8 @@ class McapFile:
             writer.add_attachment(now, now, name, media_type, text.encode('utf-8'))
         if spec.description:
             writer.add_metadata('cam_ros', dict(spec.description))
+        if spec.outputs:
+            writer.add_metadata(OUTPUTS_RECORD, dict(spec.outputs))
         writer.add_metadata('rosbag2', {'serialized_metadata': self._bag_metadata()})
         schema_ids = {name: writer.register_schema(name, 'ros2msg', text.encode('utf-8'))
                       for name, text in spec.schemas.items()}

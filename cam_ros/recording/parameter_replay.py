@@ -7,17 +7,17 @@ which its ~/state names (at_master_messages), so its events are due before that 
 Deletions and recording.* are left out (a replay must not switch the fresh node's recording).
 """
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import NamedTuple, Optional
 
 from rcl_interfaces.msg import Parameter as ParameterMsg
 from rclpy.parameter import Parameter
-from rclpy.time import Time
 
 from cam_ros.core.config.parameters import SPECS
 from cam_ros.recording.parameters import ParameterChange
 from cam_ros.recording.reader import Recording
+from cam_ros.recording.schedule import master_stamps, next_master_message
 
 #: Parameters a replay leaves alone.
 SKIPPED_PREFIX = 'recording.'
@@ -89,11 +89,17 @@ def at_master_messages(events: Sequence[ParameterEvent],
         time_ns = event.time_ns
         if mark is not None and mark.after_stamp_ns is not None:
             if mark.master_topic not in masters:
-                masters[mark.master_topic] = _stamps(recording, mark.master_topic)
-            time_ns = _next_message(masters[mark.master_topic], mark.after_stamp_ns, time_ns)
+                masters[mark.master_topic] = master_stamps(recording, mark.master_topic)
+            time_ns = next_master_message(masters[mark.master_topic], mark.after_stamp_ns,
+                                          time_ns)
         floor = moved[-1].time_ns if moved else time_ns
         moved.append(replace(event, time_ns=max(floor, time_ns)))
     return moved
+
+
+def master_topics(recording: Recording) -> dict[str, str]:
+    """Return {node: its master topic} of the e-cam nodes whose ~/state the recording holds."""
+    return {node: marks[0].master_topic for node, marks in _design_marks(recording).items()}
 
 
 def _design_marks(recording: Recording) -> dict[str, list[_Mark]]:
@@ -117,35 +123,6 @@ def _mark_of(marks: list[_Mark], time_ns: int, later: Optional[int]) -> Optional
     seen = max((mark.changes for mark in marks if mark.log_time_ns < time_ns), default=-1)
     return next((mark for mark in marks if mark.log_time_ns >= time_ns and mark.changes > seen
                  and (later is None or mark.log_time_ns < later)), None)
-
-
-def _stamps(recording: Recording, topic: str) -> list[tuple[int, int]]:
-    """Return (log time, header stamp) in ns of a recorded JointState topic's messages."""
-    if topic not in recording.topics:
-        return []
-    return [(recorded.log_time_ns, Time.from_msg(recorded.message.header.stamp).nanoseconds)
-            for recorded in recording.messages([topic])]
-
-
-def _next_message(stamps: list[tuple[int, int]], after_ns: int, default_ns: int) -> int:
-    """Return the log time of the first master message after the one stamped after_ns."""
-    start = next((index + 1 for index, (_, stamp) in enumerate(stamps) if stamp == after_ns), 0)
-    return next((log_ns for log_ns, stamp in stamps[start:] if stamp > after_ns), default_ns)
-
-
-class ParameterSchedule:
-    """Call apply(event) for every event due before a message of a given log time (once each)."""
-
-    def __init__(self, events: Sequence[ParameterEvent],
-                 apply: Callable[[ParameterEvent], None]) -> None:
-        self._events = list(events)
-        self._apply = apply
-        self._next = 0
-
-    def __call__(self, log_time_ns: int) -> None:
-        while self._next < len(self._events) and self._events[self._next].time_ns <= log_time_ns:
-            self._next += 1
-            self._apply(self._events[self._next - 1])
 
 
 def _message(change: ParameterChange) -> ParameterMsg:

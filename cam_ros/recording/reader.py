@@ -17,6 +17,7 @@ from mcap.writer import MCAP0_MAGIC
 from rclpy.serialization import deserialize_message
 
 from cam_ros.core.errors import RecordingError
+from cam_ros.recording.mcap_file import OUTPUTS_RECORD
 from cam_ros.recording.qos import load_qos
 from cam_ros.recording.schema import import_type
 
@@ -67,6 +68,12 @@ class Recording:
     def duration_ns(self) -> int:
         """Return the time between first and last message, in ns."""
         return self.end_ns - self.start_ns
+
+    @property
+    def outputs(self) -> Optional[frozenset[str]]:
+        """Return the recorded topics the recording node published itself (None: not said)."""
+        record = self.metadata.get(OUTPUTS_RECORD)
+        return None if record is None else frozenset(record.get('topics', '').split())
 
     def messages(self, topics: Optional[Iterable[str]] = None, *,
                  raw: bool = False) -> Iterator[RecordedMessage]:

@@ -12,6 +12,7 @@ from rclpy.publisher import Publisher
 from rclpy.qos import QoSProfile
 
 from cam_ros.core.errors import InvalidParameter
+from cam_ros.recording.engage_replay import engage_topics
 from cam_ros.recording.qos import DEFAULT_DEPTH, qos_from_dict
 from cam_ros.recording.reader import open_recording, RecordedMessage, Recording
 from cam_ros.recording.schema import import_type
@@ -25,6 +26,8 @@ class Player:
     """
     A recording's topics offered on a node, each with its recorded QoS, ready to play.
 
+    `topics` None: default_topics(recording, outputs), the recording node's inputs (with
+    `outputs`, its outputs too).
     The publishers exist from construction on, so a caller can make sure a subscriber has matched
     them (e.g. that a best-effort subscriber answered a probe sent through `publishers[topic]`)
     before `play`: DDS tells a writer only that it matched a reader, not that the reader has
@@ -33,10 +36,11 @@ class Player:
     """
 
     def __init__(self, recording: Union[Recording, str, os.PathLike], node: Node,
-                 topics: Optional[Iterable[str]] = None) -> None:
+                 topics: Optional[Iterable[str]] = None, outputs: bool = False) -> None:
         self.recording = (recording if isinstance(recording, Recording)
                           else open_recording(recording))
-        selected = list(self.recording.topics) if topics is None else list(topics)
+        selected = (default_topics(self.recording, outputs) if topics is None
+                    else list(topics))
         for index, name in enumerate(selected):
             if name not in self.recording.topics:
                 known = sorted(self.recording.topics)
@@ -65,9 +69,9 @@ class Player:
 
         Messages keep their log-time spacing divided by `rate` (None: as fast as possible);
         `loop` repeats until `stop` is set; `on_message` sees each published message and
-        `before_message` the log time (ns) of each before it is published (e.g. a
-        ParameterSchedule). Reliable publishers get ACK_TIMEOUT s at the end to have everything
-        acknowledged.
+        `before_message` the log time (ns) of each before it is published (e.g. a Schedule of
+        calls; the time it takes delays the rest, so the recorded spacing is kept). Reliable
+        publishers get ACK_TIMEOUT s at the end to have everything acknowledged.
         """
         _check_rate(rate)
         stop = stop or threading.Event()
@@ -98,20 +102,36 @@ class Player:
         return all(p.get_subscription_count() > 0 for p in self.publishers.values())
 
 
+def default_topics(recording: Recording, outputs: bool = False) -> list[str]:
+    """
+    Return the topics a replay publishes unless told which: the recording node's inputs.
+
+    Every recorded topic but those the recording node published itself (Recording.outputs; a
+    recording that does not say has none left out) and its ~/engage calls (EngageRequest topics,
+    made again as calls, never published); with `outputs`, the node's outputs too.
+    """
+    own = recording.outputs or frozenset()
+    calls = set(engage_topics(recording))
+    return [name for name in recording.topics
+            if name not in calls and (outputs or name not in own)]
+
+
 def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,
            rate: Optional[float] = 1.0, topics: Optional[Iterable[str]] = None,
-           loop: bool = False, on_message: Optional[Callable[[RecordedMessage], None]] = None,
+           outputs: bool = False, loop: bool = False,
+           on_message: Optional[Callable[[RecordedMessage], None]] = None,
            stop: Optional[threading.Event] = None, wait_for_subscribers: float = 0.0,
            before_message: Optional[Callable[[int], None]] = None) -> int:
     """
-    Publish the recorded wire bytes of `topics` (default all) from `node`; return the count.
+    Publish the recorded wire bytes of `topics` from `node`; return the count.
 
-    A one-shot Player: `wait_for_subscribers` seconds are allowed for every topic to have a
-    subscriber before the first message, then `Player.play` (see there). Blocks until done: run
-    it in a thread to replay alongside other work.
+    `topics` None: default_topics(recording, outputs). A one-shot Player: `wait_for_subscribers`
+    seconds are allowed for every topic to have a subscriber before the first message, then
+    `Player.play` (see there). Blocks until done: run it in a thread to replay alongside other
+    work.
     """
     _check_rate(rate)  # before any publisher exists or any waiting
-    with Player(recording, node, topics) as player:
+    with Player(recording, node, topics, outputs) as player:
         player.wait_for_subscribers(wait_for_subscribers, stop)
         return player.play(rate, loop, on_message, stop, before_message)
 
@@ -144,7 +164,10 @@ def _play_once(recording: Recording, publishers: dict[str, Publisher], rate: Opt
         if stop.is_set():
             break
         if before_message is not None:
+            began = time.monotonic()
             before_message(message.log_time_ns)
+            if origin is not None:  # the time it took (a service call) delays the rest alike
+                origin = (origin[0] + time.monotonic() - began, origin[1])
         publishers[message.topic].publish(bytes(message.message))
         count += 1
         if on_message is not None:

@@ -44,6 +44,8 @@ class TopicSpec:
 
 #: The node parameter change log, recorded like any other topic.
 PARAMETER_EVENTS = TopicSpec('/parameter_events', ParameterEvent, qos_profile_parameter_events)
+#: Topics every node publishes to: never counted as the recording node's outputs.
+GRAPH_TOPICS = frozenset({PARAMETER_EVENTS.name, '/rosout'})
 
 
 def _validated_topics(topics: Sequence[TopicSpec]) -> tuple[TopicSpec, ...]:
@@ -80,10 +82,11 @@ class Recorder:
     which sends the exact wire bytes to a writer process (writer_process): MCAP serialisation,
     compression and file writes hold neither the node's GIL nor its disk waits. Log time is the
     time of reception (the DDS reception stamp; the node clock when it runs on simulated time),
-    publish time the publisher's source timestamp. Chunks are written as they fill and at least
-    every `flush_period` seconds, so a killed process loses at most the open chunk. A write error
-    or a dead writer stops the recording (logged, `error` set), never the node. Use as a context
-    manager or call close().
+    publish time the publisher's source timestamp. The recorded topics `node` publishes itself
+    (but GRAPH_TOPICS) are named as its outputs (metadata record OUTPUTS_RECORD; a replay leaves
+    them out). Chunks are written as they fill and at least every `flush_period` seconds, so a
+    killed process loses at most the open chunk. A write error or a dead writer stops the
+    recording (logged, `error` set), never the node. Use as a context manager or call close().
     """
 
     def __init__(self, node: Node, path: Union[str, os.PathLike], topics: Sequence[TopicSpec],
@@ -124,10 +127,13 @@ class Recorder:
              'type_description_hash': type_hash(type_)}
             for name, type_, spec in zip(names, types, specs)]
         self._counts = [0] * len(specs)
+        own = {publisher.topic_name for publisher in node.publishers} - GRAPH_TOPICS
         file_spec = FileSpec(
             self.path.name, tuple(self._topics), tuple(dump_qos([spec.qos]) for spec in specs),
             schemas, compression, chunk_size, dict(attachments or {}), dict(description or {}),
-            self._clock.now().nanoseconds)
+            self._clock.now().nanoseconds,
+            {'node': node.get_fully_qualified_name(),
+             'topics': ' '.join(name for name in names if name in own)})
         self._writer: Optional[WriterProcess] = self._start_writer(file_spec)
         try:
             self._intake = RawIntake(

@@ -7,10 +7,18 @@ from pathlib import Path
 import signal
 import subprocess
 import time
+from types import SimpleNamespace
+from typing import Any, Optional
 
+from cam_ros_interfaces.msg import EngageRequest
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from cam_ros.recording import RecordedMessage
+from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
+                                                MASTER_TOPIC_KEY)
 
 #: Seconds any graph event (discovery, delivery) may take before a test fails.
 GRAPH_TIMEOUT = 5.0
@@ -98,3 +106,44 @@ def record_then_kill(python: str, env: dict[str, str], path: Path) -> int:
         child.kill()
         child.communicate(timeout=CHILD_TIMEOUT)
     return written
+
+
+class StubRecording:
+    """Decoded messages by topic, as Recording.topics/messages/outputs give them."""
+
+    def __init__(self, messages: list[RecordedMessage],
+                 outputs: Optional[frozenset[str]] = None):
+        self._messages = sorted(messages, key=lambda m: m.log_time_ns)
+        types = {m.topic: type(m.message) for m in self._messages}
+        self.topics = {name: SimpleNamespace(type=_TYPES[kind]) for name, kind in types.items()}
+        self.outputs = outputs
+
+    def messages(self, topics):
+        return (m for m in self._messages if m.topic in set(topics))
+
+
+_TYPES = {JointState: 'sensor_msgs/msg/JointState',
+          DiagnosticStatus: 'diagnostic_msgs/msg/DiagnosticStatus',
+          EngageRequest: 'cam_ros_interfaces/msg/EngageRequest'}
+
+
+def stamped(message: Any, stamp_ns: int) -> Any:
+    """Set a message's header stamp (ns) and return it."""
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(stamp_ns, 10 ** 9)
+    return message
+
+
+def master(log_ns: int, stamp_ns: int, topic: str = '/cam/master') -> RecordedMessage:
+    """Return a recorded master JointState stamped stamp_ns, logged at log_ns."""
+    message = stamped(JointState(name=['master'], position=[0.0]), stamp_ns)
+    return RecordedMessage(topic, message, log_ns, log_ns)
+
+
+def state(log_ns: int, changes: int, after: Any, node: str = '/cam',
+          topic: str = '/cam/master') -> RecordedMessage:
+    """Return a recorded e-cam ~/state naming its master topic and design changes."""
+    values = {MASTER_TOPIC_KEY: topic, DESIGN_CHANGES_KEY: changes, CHANGED_AFTER_KEY: after,
+              'switches': 0}
+    message = DiagnosticStatus(hardware_id=node, values=[
+        KeyValue(key=key, value=str(value)) for key, value in values.items()])
+    return RecordedMessage(f'{node}/state', message, log_ns, log_ns)

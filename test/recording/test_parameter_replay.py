@@ -1,18 +1,14 @@
 """--apply-parameters: recorded parameter events are set once each, before the right message."""
 
-from types import SimpleNamespace
-
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import ParameterType
-from sensor_msgs.msg import JointState
 
 from cam_ros.cli import main
 from cam_ros.recording import open_recording, ParameterChange, Player, RecordedMessage
-from cam_ros.recording.parameter_replay import (at_master_messages, CHANGED_AFTER_KEY,
-                                                DESIGN_CHANGES_KEY, MASTER_TOPIC_KEY,
-                                                parameter_events, ParameterSchedule)
+from cam_ros.recording.parameter_replay import at_master_messages, parameter_events
+from cam_ros.recording.schedule import Schedule
 
-from .recording_support import STREAM_TOPIC
+from .recording_support import master, state, STREAM_TOPIC, StubRecording
 
 
 def change(time_ns, name, new, node='/cam', kind='changed'):
@@ -45,7 +41,7 @@ def test_player_sets_each_event_before_the_first_message_logged_at_or_after_it(
     events = parameter_events(change(at, 'slave.offset', float(k)) for k, at in
                               enumerate(sorted(due)))
     log = []
-    schedule = ParameterSchedule(events, lambda event: log.append(('set', event.time_ns)))
+    schedule = Schedule(events, lambda event: log.append(('set', event.time_ns)))
     with Player(recording, graph_nodes('parameter_player'), topics=[STREAM_TOPIC]) as player:
         count = player.play(rate=None, before_message=schedule,
                             on_message=lambda m: log.append(('message', m.log_time_ns)))
@@ -70,40 +66,10 @@ def test_apply_parameters_refuses_loop(capsys, tmp_path):
     assert 'cannot go with --loop' in err[0]
 
 
-class _StubRecording:
-    """Decoded messages by topic, as Recording.topics/messages give them (log-time order)."""
-
-    def __init__(self, messages):
-        self._messages = sorted(messages, key=lambda m: m.log_time_ns)
-        types = {m.topic: type(m.message) for m in self._messages}
-        self.topics = {name: SimpleNamespace(type=_TYPES[kind]) for name, kind in types.items()}
-
-    def messages(self, topics):
-        return (m for m in self._messages if m.topic in set(topics))
-
-
-_TYPES = {JointState: 'sensor_msgs/msg/JointState',
-          DiagnosticStatus: 'diagnostic_msgs/msg/DiagnosticStatus'}
-
-
-def master(log_ns, stamp_ns, topic='/cam/master'):
-    message = JointState(name=['master'], position=[0.0])
-    message.header.stamp.sec, message.header.stamp.nanosec = divmod(stamp_ns, 10 ** 9)
-    return RecordedMessage(topic, message, log_ns, log_ns)
-
-
-def state(log_ns, changes, after, node='/cam', topic='/cam/master'):
-    values = {MASTER_TOPIC_KEY: topic, DESIGN_CHANGES_KEY: changes, CHANGED_AFTER_KEY: after,
-              'switches': 0}
-    message = DiagnosticStatus(hardware_id=node, values=[
-        KeyValue(key=key, value=str(value)) for key, value in values.items()])
-    return RecordedMessage(f'{node}/state', message, log_ns, log_ns)
-
-
 def test_an_ecam_change_moves_to_the_master_message_after_the_stamp_its_state_names():
     stamps = [7 * 10 ** 9 + 4_000_000 * k for k in range(12)]  # 250 Hz, logged 10 ns apart
     stream = [master(10 * (k + 1), stamp) for k, stamp in enumerate(stamps)]
-    recording = _StubRecording(stream + [
+    recording = StubRecording(stream + [
         state(1, 0, 'none'),  # at start-up: no change yet
         state(47, 1, stamps[3]),  # the first change was taken after the 4th message
         state(63, 1, stamps[3]),  # the switch word changed: the same change, said again
@@ -121,9 +87,8 @@ def test_an_ecam_change_moves_to_the_master_message_after_the_stamp_its_state_na
 
 
 def test_a_state_that_says_nothing_of_designs_moves_nothing():
-    recording = _StubRecording([master(10, 5), master(20, 6),
-                                RecordedMessage('/diagnostics_like', DiagnosticStatus(
-                                    hardware_id='/cam', values=[KeyValue(key='switches',
-                                                                         value='0')]), 15, 15)])
+    other = DiagnosticStatus(hardware_id='/cam', values=[KeyValue(key='switches', value='0')])
+    recording = StubRecording([master(10, 5), master(20, 6),
+                               RecordedMessage('/diagnostics_like', other, 15, 15)])
     events = parameter_events([change(12, 'slave.offset', 0.001)])
     assert at_master_messages(events, recording) == events

@@ -109,6 +109,7 @@ def test_a_finished_recording_is_copied_whole(reference, tmp_path):
     assert sorted(file_order(result.output)) == sorted(file_order(reference.path))
     assert copy.attachments == original.attachments
     assert copy.metadata['cam_ros'] == original.metadata['cam_ros']
+    assert copy.metadata['cam_ros_outputs'] == original.metadata['cam_ros_outputs']
     assert {t.name: (t.type, t.qos, t.type_hash) for t in copy.topics.values()} == {
         t.name: (t.type, t.qos, t.type_hash) for t in original.topics.values()}
 

@@ -160,6 +160,21 @@ def test_attachment_and_description_travel_in_the_file(reference):
     assert description.metadata == {'law': 'cycloidal'}
 
 
+def test_the_recording_names_the_topics_its_node_publishes_as_its_outputs(
+        reference, graph_nodes, tmp_path):
+    # The reference's recorder publishes none of its topics (/parameter_events, which every
+    # node publishes to, does not count).
+    assert open_recording(reference.path).outputs == frozenset()
+    [record] = [r for r in metadata_records(reference.path) if r.name == 'cam_ros_outputs']
+    assert record.metadata == {'node': '/reference_recorder', 'topics': ''}
+    node = graph_nodes('outputs', namespace='/cam')
+    node.create_publisher(JointState, 'commands', STREAM_QOS)
+    with Recorder(node, tmp_path / 'o.mcap', [TopicSpec('commands', JointState, STREAM_QOS),
+                                              TopicSpec('/master', JointState, STREAM_QOS)]):
+        pass
+    assert open_recording(tmp_path / 'o.mcap').outputs == frozenset({'/cam/commands'})
+
+
 def test_close_twice_and_context_manager(graph_nodes, tmp_path):
     node = graph_nodes('close_twice')
     recorder = Recorder(node, tmp_path / 'a.mcap', [TopicSpec('/x', JointState, STREAM_QOS)])
