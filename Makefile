@@ -8,7 +8,7 @@ IFACE_BUILD := $(VENV)/build/cam_ros_interfaces
 CONFIG ?= config/default.yaml
 PYTEST_ARGS ?=
 
-.PHONY: setup run test lint bench lock clean
+.PHONY: setup run test lint bench docs lock clean
 
 # Only when there is something to build: check the system first (tools/preflight.sh, with the
 # venv's Python once there is one), so a missing tool stops the set-up within seconds, before the
@@ -53,6 +53,11 @@ test: setup
 bench: setup
 	$(PY) -m benchmarks
 
+# The documentation site (docs/: Sphinx with MyST Markdown, as rosdoc2 builds it); warnings are
+# errors. `make test` builds it too (test/docs/test_build.py).
+docs: setup
+	$(PY) -m sphinx -W --keep-going -q -E -b html docs docs/_build/html
+
 # Pins every distribution pip installed (egg-info folders that ROS wheels embed are not distributions).
 lock: | $(PY)
 	{ sed -n '1,2p' requirements.lock; $(PY) -c "$$LOCK_PY"; } > requirements.lock.new
@@ -68,4 +73,4 @@ endef
 export LOCK_PY
 
 clean:
-	rm -rf $(VENV) build install log .pytest_cache .mypy_cache
+	rm -rf $(VENV) build install log .pytest_cache .mypy_cache docs/_build

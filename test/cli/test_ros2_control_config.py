@@ -76,8 +76,8 @@ def test_trajectory_controller_takes_the_follower_from_the_urdfs_interfaces():
     assert params['allow_nonzero_velocity_at_trajectory_end'] is True  # a look-ahead still moves
 
 
-def test_readme_remaps_the_nodes_topics_to_each_controllers_input():
-    readme = (REPO / 'README.md').read_text()
+def test_docs_remap_the_nodes_topics_to_each_controllers_input():
+    readme = (REPO / 'docs' / 'ros-interface.md').read_text()
     for name in by_type(FORWARD):
         assert f'/cam/commands:=/{name}/commands' in readme, name
     for name in by_type(TRAJECTORY):
