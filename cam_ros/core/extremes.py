@@ -290,10 +290,12 @@ def refine_roots(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, *,
     cuts = _extended_breaks(breaks, period)
     gap = _gap(t, period)
     a, b, _, _ = _pieces(t[change], right_t[change], cuts, gap)
-    ends = np.concatenate((t[change], right_t[change]))
-    on_breaks = np.unique(ends[np.isin(ends, cuts)])  # samples at a break: the side they own
-    order = np.argsort(np.concatenate((a, on_breaks)), kind='stable')
-    a, b = np.concatenate((a, on_breaks))[order], np.concatenate((b, on_breaks))[order]
+    ends = np.unique(np.concatenate((t[change], right_t[change])))
+    if a.size:  # keep the samples outside every piece: at (or a gap from) a break, its side
+        piece = np.maximum(np.searchsorted(a, ends, side='right') - 1, 0)
+        ends = ends[(ends < a[piece]) | (ends >= b[piece])]
+    order = np.argsort(np.concatenate((a, ends)), kind='stable')
+    a, b = np.concatenate((a, ends))[order], np.concatenate((b, ends))[order]
     f_ends = _call(func, np.concatenate((a, b)))
     fa, fb = f_ends[:a.size], f_ends[a.size:]
     inside = fa * fb < 0.0

@@ -17,7 +17,7 @@ from typing import Any, Callable, Optional
 
 import numpy as np
 
-from ..extremes import BREAK_GAP, CHECK_SAMPLES, refine_extrema, refine_roots, TWO_PI
+from ..extremes import CHECK_SAMPLES, refine_extrema, refine_roots, TWO_PI
 from ..geometry.envelope import Profile
 from ..geometry.followers import Follower
 from ..motion.program import MotionProgram
@@ -70,11 +70,7 @@ def _crossovers(force: Callable[[Array], Array], theta: Array, values: Array,
     loaded = values != 0.0
     if np.count_nonzero(loaded) < 3:
         return np.array([]), ((), ())
-    roots = refine_roots(force, theta[loaded], values[loaded], breaks=breaks)
-    joints = np.mod(np.asarray(breaks, dtype=float), TWO_PI)
-    step = BREAK_GAP * np.finfo(float).eps * TWO_PI
-    jumps = joints[force(joints - step) * force(joints + step) < 0.0]  # Q jumps across 0
-    roots = np.unique(np.concatenate((roots, jumps)))
+    roots = refine_roots(force, theta[loaded], values[loaded], breaks=breaks)  # jumps too
     signs = np.sign(values[loaded])
     if roots.size == 0:
         whole = ((0.0, TWO_PI),)
