@@ -17,6 +17,7 @@ Fenced blocks by language:
 """
 from __future__ import annotations
 
+import argparse
 import os
 import re
 import shlex
@@ -90,10 +91,20 @@ def run(words: list[str], cwd: Path) -> tuple[int, str]:
     return done.returncode, done.stdout + done.stderr
 
 
+def strict(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Refuse abbreviated options in the parser and its subparsers: the docs spell them out."""
+    parser.allow_abbrev = False
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                strict(sub)
+    return parser
+
+
 def check_cam_ros(words: list[str], cwd: Path) -> str | None:
     """Parse a cam_ros command with the real parser, run it when cheap; return its output."""
     try:
-        args = build_parser().parse_args(words[1:])
+        args = strict(build_parser()).parse_args(words[1:])
     except SystemExit as err:  # argparse's error (our parser raises UsageError instead)
         raise AssertionError(f'{shlex.join(words)}: argparse refused it ({err})') from err
     except Exception as err:  # noqa: B902 - UsageError and friends

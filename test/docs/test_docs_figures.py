@@ -1,0 +1,109 @@
+"""Measured figures in the docs match the files that hold them; the map reaches every page."""
+from __future__ import annotations
+
+import json
+import re
+import runpy
+from pathlib import Path
+from typing import Any
+
+import pytest
+from docs_support import DOCS, REPO
+
+TABLES = runpy.run_path(str(REPO / 'tools' / 'docs_tables.py'), run_name='docs_tables')
+
+
+def figures(name: str) -> dict[str, Any]:
+    """Return a benchmark results file (benchmarks/NAME.json)."""
+    return json.loads((REPO / 'benchmarks' / f'{name}.json').read_text())
+
+
+def g3(value: float) -> str:
+    """Format as the tables do: 3 significant digits."""
+    return f'{value:.3g}'
+
+
+def benchmark_quotes() -> list[str]:
+    """Return the run's figures as docs/benchmarks.md quotes them in its prose."""
+    run = figures('results')
+    f = run['figures']
+    machine = run['machine']
+    return [
+        f"Run of {run['date'][:10]} {run['date'][11:16]}",
+        f"{machine['cores']} cores, Python {machine['python'][:4]}, "
+        f"NumPy {machine['numpy'][:3]}; {run['run_time_s']:.0f} s)",
+        f"Service p50 {g3(f['service_p50_ms']['ratio'])}× SetBool "
+        f"({g3(f['service_p50_ms']['value'])} against {g3(f['service_p50_ms']['reference_value'])}"
+        ' ms',
+        f"p99 is met ({f['service_p99_ms']['ratio']:.2f}×)",
+        f"E-cam p50 {g3(f['ecam_latency_p50_ms']['ratio'])}× the relay",
+        f"Publish loop with recording on {g3(f['recording_publish_overhead']['ratio'])}× off",
+        f"This run: off {g3(f['recording_publish_overhead']['reference_value'])} us",
+        f"the recording on {g3(f['recording_publish_overhead']['value'])} us",
+        f"Evaluate with dynamics {g3(f['design_evaluate_dynamics_ms']['ratio'])}× without",
+        f"compares `design_report` with one 7,200-sample geometry pass: "
+        f"{f['design_report_ms']['ratio']:.0f}× here",
+    ]
+
+
+def middleware_quotes() -> list[str]:
+    """Return the middleware run's figures as docs/across-machines.md quotes them."""
+    f = figures('middleware_results')['figures']
+
+    def pair(key: str, digits: str = '.3g') -> tuple[str, str, str]:
+        figure = f[key]
+        return (format(figure['reference_value'], digits), format(figure['value'], digits),
+                f"{figure['ratio']:.2f}")
+
+    p50, p99, cpu = pair('profile_p50_ms'), pair('profile_p99_ms', '.2g'), pair(
+        'profile_call_cpu_ms')
+    size, idle_cpu = pair('profile_call_bytes', '.0f'), pair('profile_idle_cpu_percent')
+    idle = [format(f['profile_idle_bytes_per_s'][key] / 1000, '.1f')
+            for key in ('reference_value', 'value')]
+    return [
+        f'| p50 {p50[0]} ms, p99 {p99[0]} ms; node + client CPU {cpu[0]} ms per call; '
+        f'{size[0]} B per call |',
+        f'| p50 {p50[1]} ms ({p50[2]}×), p99 {p99[1]} ms ({p99[2]}×); CPU {cpu[1]} ms '
+        f'({cpu[2]}×); {size[1]} B ({size[2]}×) |',
+        f"| {idle[0]} kB/s, CPU {idle_cpu[0]} % | {idle[1]} kB/s "
+        f"({f['profile_idle_bytes_per_s']['ratio']:.2f}×: heartbeats), CPU {idle_cpu[1]} % |",
+    ]
+
+
+@pytest.mark.parametrize('page, quotes', [('benchmarks.md', benchmark_quotes),
+                                          ('across-machines.md', middleware_quotes)])
+def test_quoted_measurements_match_their_results_file(page: str, quotes) -> None:
+    text = re.sub(r'\s*\n\s*', ' ', (DOCS / page).read_text())  # quotes may wrap
+    missing = [quote for quote in quotes() if re.sub(r'\s*\n\s*', ' ', quote) not in text]
+    assert not missing, f'{page} no longer quotes its results file: {missing}'
+
+
+def test_generated_benchmark_table_is_results_json_as_make_bench_writes_it() -> None:
+    page = (DOCS / 'benchmarks.md').read_text()
+    assert TABLES['generated']('docs/benchmarks.md', page) == page, (
+        'docs/benchmarks.md: run python tools/docs_tables.py')
+    table = TABLES['results_table'](figures('results'))
+    assert table == (REPO / 'benchmarks' / 'results.md').read_text()
+    assert table in page
+
+
+def test_generated_table_follows_a_changed_results_file() -> None:
+    run = figures('results')
+    run['figures']['service_p50_ms'].update(value=9.87, ratio=10.75, met=False)
+    table = TABLES['results_table'](run)
+    assert '| /cam/evaluate, 1 angle, p50 [10] | 9.87 ms | SetBool p50: 0.918 ms | 10.8 |' in table
+    assert table not in (DOCS / 'benchmarks.md').read_text()
+
+
+def test_readme_map_reaches_every_page_in_one_click() -> None:
+    readme = (REPO / 'README.md').read_text()
+    linked = set(re.findall(r'\]\(docs/([\w-]+)\.md(?:#[\w-]+)?\)', readme))
+    pages = {page.stem for page in DOCS.glob('*.md')} - {'index'}
+    assert linked == pages, (sorted(pages - linked), sorted(linked - pages))
+    assert len(readme.splitlines()) <= 250
+
+
+@pytest.mark.parametrize('page', sorted(DOCS.glob('*.md')), ids=lambda page: page.name)
+def test_each_page_says_what_it_is_for_under_its_title(page: Path) -> None:
+    title, blank, purpose, *_ = page.read_text().splitlines()
+    assert title.startswith('# ') and blank == '' and len(purpose.split()) >= 8, page.name
