@@ -154,7 +154,7 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
             raise InvalidParameter('--format', table_format, 'a cam table takes one of '
                                    + ', '.join(TABLE_FORMATS))
         return export_cam_table(config, output, points, tolerance, table_format,
-                                interpolation or 'linear', end_point, derivatives)
+                                interpolation, end_point, derivatives)
     surface_only = {**table_options, **machining_options, '--tolerance': tolerance,
                     '--format': file_format}
     for option, value in surface_only.items():
@@ -191,7 +191,7 @@ def export_switches(config: str, output: str, table_format: str) -> int:
 
 
 def export_cam_table(config: str, output: str, points: int | None, tolerance: str | None,
-                     table_format: str, interpolation: str, end_point: bool | None,
+                     table_format: str, interpolation: str | None, end_point: bool | None,
                      derivatives: bool) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
     from cam_ros.output.cam_table_formats import cam_table_text, check_options, size_note
@@ -200,7 +200,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     from cam_ros.core.ecam.cam_table import equidistant_table, tolerance_table
 
     target = Path(output)
-    with_derivatives = check_options(table_format, interpolation, derivatives)
+    interpolation, with_derivatives = check_options(table_format, interpolation, derivatives)
     if tolerance is not None:
         split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
     design = load_design(config)

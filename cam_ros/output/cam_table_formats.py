@@ -16,7 +16,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
-from cam_ros.core.ecam.cam_table import CamTable
+from cam_ros.core.ecam.cam_table import CamTable, INTERPOLATIONS
 from cam_ros.output.rounding import ceil_sig
 
 DEGREE = math.pi / 180.0
@@ -37,6 +37,8 @@ class TableFormat:
     write: Callable[[Sequence[str], np.ndarray, Sequence[str]], str]
     max_points: int = 0  # 0: no limit of its own
     default_points: int = 0  # what the target holds unless configured for more (0: no such size)
+    #: What the target may do between points; the first is assumed unless told.
+    interpolations: tuple[str, ...] = ('linear',)
 
 
 def number(value: float) -> str:
@@ -69,10 +71,19 @@ def _write_st(notes: Sequence[str], values: np.ndarray, names: Sequence[str]) ->
 
 
 FORMATS: dict[str, TableFormat] = {
-    'csv': TableFormat('optional', _write_csv),
+    'csv': TableFormat('optional', _write_csv, interpolations=INTERPOLATIONS),
     'sew': TableFormat('never', _write_sew, SEW_MAX_POINTS, SEW_DEFAULT_POINTS),
-    'xyva': TableFormat('always', _write_csv),
+    # CODESYS SoftMotion interpolates an XYVA cam by fifth-degree polynomials through X, Y, V, A.
+    'xyva': TableFormat('always', _write_csv, interpolations=('quintic',)),
     'st': TableFormat('never', _write_st),
+}
+#: How the header names each interpolation.
+METHODS = {
+    'linear': 'linear',
+    'cubic': 'cubic Hermite, slopes from the velocity column',
+    'quintic': 'quintic Hermite (on each interval the fifth-degree polynomial through the '
+               'position, velocity and acceleration at both ends, as CODESYS SoftMotion '
+               'interpolates XYVA cams)',
 }
 
 
@@ -85,18 +96,26 @@ def size_note(name: str, rows: int) -> str | None:
             f'configure the list for {rows} points (at most {FORMATS[name].max_points})')
 
 
-def check_options(name: str, interpolation: str, derivatives: bool) -> bool:
-    """Return whether the file gets derivative columns; raise for what the format cannot carry."""
+def check_options(name: str, interpolation: str | None,
+                  derivatives: bool) -> tuple[str, bool]:
+    """Return the interpolation (None: the target's default) and whether the file gets
+    derivative columns; raise for what the format cannot carry."""
     target = FORMATS[name]
-    if target.derivatives == 'never':
-        if interpolation == 'cubic':
-            raise InvalidParameter('--interpolation', interpolation,
-                                   f'needs the slopes, which --format {name} does not carry: '
-                                   'use csv or xyva')
-        if derivatives:
-            raise InvalidParameter('--derivatives', True, f'--format {name} carries master and '
-                                                          'slave positions only')
-    return target.derivatives == 'always' or derivatives or interpolation == 'cubic'
+    chosen = target.interpolations[0] if interpolation is None else interpolation
+    if chosen not in target.interpolations:
+        if target.derivatives == 'never':
+            needs = 'the slopes' + (' and accelerations' if chosen == 'quintic' else '')
+            rule = f'needs {needs}, which --format {name} does not carry: use csv' + (
+                ' or xyva' if chosen == 'quintic' else '')
+        else:
+            rule = (f'--format {name} is interpolated by its target by '
+                    f'{METHODS[target.interpolations[0]]}: give '
+                    f'{" or ".join(target.interpolations)} or leave --interpolation out')
+        raise InvalidParameter('--interpolation', interpolation, rule)
+    if target.derivatives == 'never' and derivatives:
+        raise InvalidParameter('--derivatives', True, f'--format {name} carries master and '
+                                                      'slave positions only')
+    return chosen, target.derivatives == 'always' or derivatives or chosen != 'linear'
 
 
 def table_columns(table: CamTable, design: CamDesign,
@@ -127,8 +146,7 @@ def _notes(table: CamTable, design: CamDesign, source: str, rows: int, end_point
     else:
         periodic = ('the periodic end point 360 deg included' if end_point else
                     'periodic: the end point 360 deg repeats 0 deg and is left out')
-    method = ('cubic Hermite, slopes from the velocity column'
-              if table.interpolation == 'cubic' else 'linear')
+    method = METHODS[table.interpolation]
     notes = [
         f'cam table of {source} from cam_ros: {rows} points over master 0-360 deg, {periodic}',
         f'points: {spacing}',

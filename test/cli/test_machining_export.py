@@ -283,3 +283,20 @@ def test_arcs_are_for_gcode_only(tmp_path, capsys):
     run = run_cli(capsys, 'export', DEFAULT_CONFIG, '-o', tmp_path / 'cam.csv', '--machining',
                   '--tolerance', '0.001', '--format', 'csv', '--arcs')
     assert_one_error_line(run, 'export', '--arcs = True', 'applies to --format gcode')
+
+
+def test_printed_worst_deviation_is_rounded_up(tmp_path, capsys, monkeypatch):
+    """A worst deviation of 0.1234564 mm prints as 0.123457 (to nearest it would read 0.123456,
+    below the truth)."""
+    import dataclasses
+
+    from cam_ros.commands import machining
+
+    real = machining.lines_only
+
+    def worst_of_0_1234564_mm(path):
+        return dataclasses.replace(real(path), worst_deviation=0.1234564 * MM)
+
+    monkeypatch.setattr(machining, 'lines_only', worst_of_0_1234564_mm)
+    run = export(capsys, tmp_path / 'cam.csv', '--format', 'csv')
+    assert 'worst deviation 0.123457 mm within 0.01 mm' in run.out, run.out

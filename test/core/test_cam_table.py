@@ -1,10 +1,14 @@
-"""Cam tables: knot values, interpolation errors against closed forms and dense brute force."""
+"""Cam tables: knot values, interpolation errors against closed forms and dense brute force.
+
+Interpolants are SciPy's: np.interp, CubicHermiteSpline, and for quintic Hermite pieces
+BPoly.from_derivatives through (s, ds, d2s) at every knot (degree 5 on each interval).
+"""
 import math
 
 import numpy as np
 import pytest
 from cam_motions import seed_000
-from scipy.interpolate import CubicHermiteSpline
+from scipy.interpolate import BPoly, CubicHermiteSpline
 
 from cam_ros.core.ecam.cam_table import (equidistant_table, interpolate, MAX_POINTS, stroke,
                                          tolerance_table)
@@ -33,13 +37,19 @@ PARABOLIC = program(('constant_acceleration', 0, 180, 0, RISE),
                     ('constant_acceleration', 180, 360, RISE, 0))
 
 
+def scipy_interpolant(table, theta):
+    """Return the table's interpolant at theta as NumPy/SciPy build it."""
+    if table.interpolation == 'linear':
+        return np.interp(theta, table.angle, table.position)
+    if table.interpolation == 'cubic':
+        return CubicHermiteSpline(table.angle, table.position, table.slope)(theta)
+    ends = np.column_stack((table.position, table.slope, table.curvature))
+    return BPoly.from_derivatives(table.angle, ends.tolist())(theta)
+
+
 def dense_error(table, exact):
     """Return the largest |interpolant - exact| on DENSE, the interpolant built by SciPy/NumPy."""
-    if table.interpolation == 'linear':
-        approximation = np.interp(DENSE, table.angle, table.position)
-    else:
-        approximation = CubicHermiteSpline(table.angle, table.position, table.slope)(DENSE)
-    return np.abs(approximation - exact).max()
+    return np.abs(scipy_interpolant(table, DENSE) - exact).max()
 
 
 def test_equidistant_knots_hold_the_exact_values():
@@ -65,7 +75,14 @@ def test_cubic_hermite_reproduces_a_parabola_exactly():
     assert table.max_error < 1e-14 * RISE
 
 
-@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+def test_quintic_hermite_reproduces_a_quintic_law_exactly():
+    # 3-4-5 rise and return: one quintic per half, so 8 equidistant knots lose nothing.
+    quintic = program(('polynomial_345', 0, 180, 0, RISE), ('polynomial_345', 180, 360, RISE, 0))
+    assert equidistant_table(quintic, 8, 'quintic').max_error < 1e-14 * RISE
+    assert equidistant_table(quintic, 8, 'cubic').max_error > 1e-4 * RISE
+
+
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic', 'quintic'])
 def test_reported_error_matches_dense_brute_force(interpolation):
     exact = seed_000(DENSE % (2 * math.pi))[0]
     table = equidistant_table(SEED_000, 50, interpolation)
@@ -76,19 +93,17 @@ def test_reported_error_matches_dense_brute_force(interpolation):
     assert table.max_error <= measured * (1 + 1e-4)
 
 
-@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic', 'quintic'])
 def test_interpolate_is_the_interpolant_scipy_builds(interpolation):
     table = tolerance_table(SEED_000, 1e-5, interpolation)
     theta = DENSE[::97]
-    if interpolation == 'linear':
-        expected = np.interp(theta, table.angle, table.position)
-    else:
-        expected = CubicHermiteSpline(table.angle, table.position, table.slope)(theta)
-    np.testing.assert_allclose(interpolate(table, theta), expected, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(interpolate(table, theta), scipy_interpolant(table, theta),
+                               rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize('interpolation, tolerance', [('linear', MICRON), ('linear', 1e-4),
-                                                      ('cubic', MICRON), ('cubic', 1e-8)])
+                                                      ('cubic', MICRON), ('cubic', 1e-8),
+                                                      ('quintic', MICRON), ('quintic', 2e-9)])
 def test_tolerance_table_stays_within_tolerance(interpolation, tolerance):
     table = tolerance_table(SEED_000, tolerance, interpolation)
     exact = seed_000(DENSE % (2 * math.pi))[0]
@@ -109,6 +124,30 @@ def test_cubic_table_meets_the_tolerance_where_the_slope_jumps():
     exact = jumps.evaluate(DENSE).s
     assert table.max_error <= MICRON and dense_error(table, exact) <= MICRON
     assert table.slope[np.isclose(table.master_deg, 90.0, rtol=0, atol=1e-12)] == RISE / deg(90)
+
+
+@pytest.mark.parametrize('tolerance', [MICRON, 1e-8])
+def test_quintic_table_keeps_both_sides_where_the_acceleration_jumps(tolerance):
+    # Seed 000: d2s jumps at 240 deg (dwell -> simple harmonic, -pi^2 h / (2 beta^2)) and at 0
+    # (simple harmonic -> dwell, from +pi^2 h / (2 beta^2)); ds jumps nowhere.  A knot carries
+    # the segment's that starts there, so the one before keeps the other side: it lies within
+    # the distance where the joint's jump alone would break the tolerance, and has the dwell's
+    # values (0, 0) there, or the simple harmonic's close to its end value.
+    table = tolerance_table(SEED_000, tolerance, 'quintic')
+    jump = math.pi ** 2 * RISE / (2 * deg(120) ** 2)
+    # A quintic Hermite piece's response to a unit end curvature: t^3 (1 - t)^2 / 2 span^2,
+    # largest 0.01728 span^2 at t = 3/5, so a knot farther than this from the joint fails.
+    reach = math.sqrt(tolerance / (0.01728 * jump))
+    for joint, left, right in ((240.0, 0.0, -jump), (360.0, jump, 0.0)):
+        at = np.flatnonzero(np.isclose(table.master_deg, joint, rtol=0, atol=1e-12))
+        assert at.size == 1
+        assert table.curvature[at[0]] == pytest.approx(right if joint < 360 else 0.0,
+                                                       rel=1e-12, abs=1e-12)
+        before = at[0] - 1
+        assert 0 < deg(joint - table.master_deg[before]) < reach
+        assert table.curvature[before] == pytest.approx(left, rel=1e-3, abs=1e-12)
+    exact = SEED_000.evaluate(DENSE).s
+    assert dense_error(table, exact) <= table.max_error * (1 + 1e-9) <= tolerance
 
 
 def test_each_placed_interval_is_as_long_as_the_tolerance_allows():
@@ -162,7 +201,7 @@ def test_unknown_interpolation_is_refused():
         equidistant_table(SEED_000, 10, 'spline')
 
 
-@pytest.mark.parametrize('interpolation', ['linear', 'cubic'])
+@pytest.mark.parametrize('interpolation', ['linear', 'cubic', 'quintic'])
 @pytest.mark.parametrize('points', [7, 11, 13])
 def test_stated_error_is_never_below_the_truth_where_a_slope_jump_is_inside_an_interval(
         interpolation, points):
@@ -175,9 +214,6 @@ def test_stated_error_is_never_below_the_truth_where_a_slope_jump_is_inside_an_i
     table = equidistant_table(jumps, points, interpolation)
     assert not np.isclose(table.angle[:, None], kinks, rtol=0, atol=1e-9).any()
     grid = np.sort(np.concatenate((DENSE, kinks)))
-    if interpolation == 'linear':
-        approximation = np.interp(grid, table.angle, table.position)
-    else:
-        approximation = CubicHermiteSpline(table.angle, table.position, table.slope)(grid)
+    approximation = scipy_interpolant(table, grid)
     truth = np.abs(approximation - jumps.evaluate(grid).s).max()
     assert truth * (1.0 - 1e-12) <= table.max_error <= truth * (1.0 + 1e-6)

@@ -3,10 +3,12 @@ Cam tables: the follower position at knots of the cam (master) angle, for a PLC 
 
 A table holds knots 0 = theta_0 < ... < theta_n = 360 deg and the exact s, ds/dtheta and
 d2s/dtheta2 of the motion program there (SI: m, or rad for an oscillating follower; derivatives
-per rad).  A PLC or drive interpolates between the knots, linearly (positions only) or by cubic
-Hermite pieces (positions and slopes).  The worst deviation of that interpolant p from the exact
-law s is found on every interval by dense sampling, refined by Newton steps on e' = s' - p' = 0
-(an extreme of the error e = s - p lies where the slopes agree).
+per rad).  A PLC or drive interpolates between the knots, linearly (positions only), by cubic
+Hermite pieces (positions and slopes) or by quintic Hermite pieces (positions, slopes and
+curvatures at both ends: CODESYS SoftMotion's XYVA cams, one fifth-degree polynomial per
+interval).  The worst deviation of that interpolant p from the exact law s is found on every
+interval by dense sampling, refined by Newton steps on e' = s' - p' = 0 (an extreme of the error
+e = s - p lies where the slopes agree).
 
 - `equidistant_table`: n equal steps of 360/n deg.
 - `tolerance_table`: knots placed greedily: from each knot the next is as far as the interval
@@ -17,7 +19,9 @@ law s is found on every interval by dense sampling, refined by Newton steps on e
 
 Every interval's error is also evaluated at the program's breaks inside it: where the slope
 jumps (a dwell next to constant velocity) the worst error sits at the kink, where e' changes sign
-without passing through zero.
+without passing through zero.  A knot carries one slope and one curvature, the segment's that
+starts there; where either jumps, a placed table keeps the other side too by a knot just before
+the joint (as close as the tolerance needs).
 """
 from __future__ import annotations
 
@@ -32,7 +36,7 @@ from ..cam_angles import TWO_PI
 from ..errors import InvalidParameter
 from ..motion.program import MotionProgram
 
-INTERPOLATIONS = ('linear', 'cubic')
+INTERPOLATIONS = ('linear', 'cubic', 'quintic')
 #: Most knots a table may have (equidistant or placed).
 MAX_POINTS = 1_000_000
 #: Samples per interval in the final check of a table (then refined by Newton steps).
@@ -57,6 +61,7 @@ class _Knots(NamedTuple):
 
     s: FloatArray
     ds: FloatArray
+    d2s: FloatArray
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,11 +118,11 @@ def tolerance_table(program: MotionProgram, tolerance: float, interpolation: str
         raise InvalidParameter('tolerance', tolerance,
                                f'must be in [{low * factor:.6g}, {travel * factor:.6g}] {name}: '
                                f'from {MIN_RELATIVE_TOLERANCE:g} of the stroke to the stroke')
-    cubic = interpolation == 'cubic'
     pieces = _piece_bounds(program)
     knots = [0.0]
     for start, end in zip(pieces[:-1], pieces[1:]):
-        knots += _place_knots(program, start, end, SEARCH_MARGIN * float(tolerance), cubic)
+        knots += _place_knots(program, start, end, SEARCH_MARGIN * float(tolerance),
+                              interpolation)
         if len(knots) > MAX_POINTS:
             raise InvalidParameter('tolerance', tolerance,
                                    f'needs more than {MAX_POINTS} points: choose a larger one')
@@ -129,9 +134,9 @@ def interpolate(table: CamTable, theta: FloatArray) -> FloatArray:
     angle = table.angle
     index = np.clip(np.searchsorted(angle, theta, side='right') - 1, 0, angle.size - 2)
     start, span = angle[index], np.diff(angle)[index]
-    coefficients = _coefficients(span, _Knots(table.position[index], table.slope[index]),
-                                 _Knots(table.position[index + 1], table.slope[index + 1]),
-                                 table.interpolation == 'cubic')
+    left, right = (_Knots(table.position[at], table.slope[at], table.curvature[at])
+                   for at in (index, index + 1))
+    coefficients = _coefficients(span, left, right, table.interpolation)
     return _polynomial(coefficients, (theta - start) / span, span)[0]
 
 
@@ -146,7 +151,7 @@ def _table(program: MotionProgram, master_deg: FloatArray, interpolation: str,
     """Evaluate the program at the knots and check the interpolation on every interval."""
     angle = np.radians(master_deg)
     values = program.evaluate(angle)
-    errors = _errors(program, angle[:-1], angle[1:], interpolation == 'cubic', CHECK_SAMPLES)
+    errors = _errors(program, angle[:-1], angle[1:], interpolation, CHECK_SAMPLES)
     return CamTable(master_deg, values.s, values.ds, values.d2s, interpolation,
                     float(errors.max()), tolerance)
 
@@ -161,17 +166,17 @@ def _piece_bounds(program: MotionProgram) -> FloatArray:
 
 
 def _place_knots(program: MotionProgram, start: float, end: float, target: float,
-                 cubic: bool) -> list[float]:
+                 interpolation: str) -> list[float]:
     """Return the knots after start up to end: each the farthest whose interval meets target."""
     knots: list[float] = []
     here = start
     resolution = SEARCH_RESOLUTION * (end - start)
-    while not _errors(program, np.array([here]), np.array([end]), cubic,
+    while not _errors(program, np.array([here]), np.array([end]), interpolation,
                       SEARCH_SAMPLES)[0] <= target:
         low, high = here, end
         while high - low > resolution:
             ends = np.linspace(low, high, CANDIDATES + 2)[1:-1]
-            bad = _errors(program, np.full(CANDIDATES, here), ends, cubic,
+            bad = _errors(program, np.full(CANDIDATES, here), ends, interpolation,
                           SEARCH_SAMPLES) > target
             first = int(np.argmax(bad)) if bad.any() else CANDIDATES
             high = ends[first] if first < CANDIDATES else high
@@ -188,34 +193,51 @@ def _place_knots(program: MotionProgram, start: float, end: float, target: float
     return knots
 
 
-def _coefficients(span: FloatArray, left: _Knots, right: _Knots, cubic: bool) -> FloatArray:
-    """Return c (4, n) of p(t) = c0 + c1 t + c2 t^2 + c3 t^3 on each interval, t in [0, 1]."""
+def _coefficients(span: FloatArray, left: _Knots, right: _Knots,
+                  interpolation: str) -> FloatArray:
+    """Return c (degree + 1, n) of p(t) = sum c_k t^k on each interval, t in [0, 1].
+
+    Hermite pieces in t: the slopes and curvatures per rad times span and span^2.
+    """
     rise = right.s - left.s
-    if not cubic:
-        zero = np.zeros_like(rise)
-        return np.array([left.s, rise, zero, zero])
-    m0, m1 = span * left.ds, span * right.ds  # Hermite slopes per unit of t
-    return np.array([left.s, m0, 3.0 * rise - 2.0 * m0 - m1, m0 + m1 - 2.0 * rise])
+    if interpolation == 'linear':
+        return np.array([left.s, rise])
+    m0, m1 = span * left.ds, span * right.ds
+    if interpolation == 'cubic':
+        return np.array([left.s, m0, 3.0 * rise - 2.0 * m0 - m1, m0 + m1 - 2.0 * rise])
+    q0, q1 = span ** 2 * left.d2s, span ** 2 * right.d2s
+    return np.array([left.s, m0, 0.5 * q0,
+                     10.0 * rise - 6.0 * m0 - 4.0 * m1 - 0.5 * (3.0 * q0 - q1),
+                     -15.0 * rise + 8.0 * m0 + 7.0 * m1 + 0.5 * (3.0 * q0 - 2.0 * q1),
+                     6.0 * rise - 3.0 * (m0 + m1) - 0.5 * (q0 - q1)])
+
+
+def _horner(c: FloatArray, t: FloatArray) -> FloatArray:
+    """Return sum c_k t^k (c's rows broadcast against t)."""
+    value = c[-1] + 0.0 * t
+    for row in c[-2::-1]:
+        value = row + t * value
+    return value
 
 
 def _polynomial(c: FloatArray, t: FloatArray,
                 span: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Return p, dp/dtheta, d2p/dtheta2 of the pieces c at t (broadcast against c[k])."""
-    value = c[0] + t * (c[1] + t * (c[2] + t * c[3]))
-    slope = (c[1] + t * (2.0 * c[2] + t * 3.0 * c[3])) / span
-    curvature = (2.0 * c[2] + 6.0 * c[3] * t) / span ** 2
-    return value, slope, curvature
+    power = np.arange(1.0, len(c)).reshape((-1,) + (1,) * (c.ndim - 1))
+    first = c[1:] * power
+    second = first[1:] * power[:-1] if len(c) > 2 else np.zeros_like(c[:1])
+    return _horner(c, t), _horner(first, t) / span, _horner(second, t) / span ** 2
 
 
-def _errors(program: MotionProgram, start: FloatArray, end: FloatArray, cubic: bool,
+def _errors(program: MotionProgram, start: FloatArray, end: FloatArray, interpolation: str,
             samples: int) -> FloatArray:
     """Return the largest |s - p| on each interval [start, end] (rad) of an interpolant p."""
     ends = program.evaluate(np.concatenate((start, end)))
     count = start.size
-    left = _Knots(ends.s[:count], ends.ds[:count])
-    right = _Knots(ends.s[count:], ends.ds[count:])
+    left = _Knots(ends.s[:count], ends.ds[:count], ends.d2s[:count])
+    right = _Knots(ends.s[count:], ends.ds[count:], ends.d2s[count:])
     span = (end - start)[:, None]
-    c = _coefficients(span[:, 0], left, right, cubic)[:, :, None]
+    c = _coefficients(span[:, 0], left, right, interpolation)[:, :, None]
 
     def error(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         exact = program.evaluate(start[:, None] + span * t)
