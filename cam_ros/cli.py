@@ -205,8 +205,10 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                          help='a cam table: N equidistant master steps over one revolution '
                               '(default 360): N + 1 rows with the end point 360 deg, N without')
     table.add_argument('--interpolation', default=None, choices=INTERPOLATIONS,
-                       help='what the target does between points (default linear); cubic: '
-                            'Hermite with the velocity column as slopes (csv, xyva)')
+                       help='what the target does between points (default linear; xyva: '
+                            'quintic, its only one); cubic: Hermite with the velocity column as '
+                            'slopes (csv); quintic: fifth-degree pieces through position, '
+                            'velocity and acceleration (csv, xyva)')
     table.add_argument('--end-point', action=argparse.BooleanOptionalAction, default=None,
                        help='write the periodic end point 360 deg (default: yes)')
     table.add_argument('--derivatives', action='store_true',
