@@ -154,9 +154,12 @@ def check_command(line: str, cwd: Path) -> str | None:
         return check_cam_ros(words, cwd)
     if words[0] == 'make':
         assert words[1] in makefile_targets(), f'make {words[1]}: no such target'
+        makefile = (REPO / 'Makefile').read_text()
         for word in words[2:]:
             name, _, value = word.partition('=')
-            assert name.isupper() and (REPO / value).exists(), word
+            assert re.search(rf'^{name} \?=', makefile, flags=re.M), f'{word}: no such variable'
+            for path in (part for part in value.split() if '/' in part):
+                assert (REPO / path).exists(), f'{word}: {path} does not exist'
         return None
     if words[0] == 'cam_node':
         check_cam_node(words)
