@@ -20,6 +20,8 @@ from .dynamics.follower import DynamicsValues, FollowerDynamics
 from .dynamics.polydyne import compensated_program
 from .dynamics.report import DynamicsReport, dynamics_report
 from .dynamics.vibration import RIGID_RATIO, vibration_report, VibrationReport
+from .ecam.master import ElectronicCam, MasterConfig
+from .ecam.slave_limits import AxisUnit, CamPeaks, SlaveLimits
 from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
 from .geometry.followers import Follower, OscillatingRoller, TranslatingRoller
@@ -253,6 +255,8 @@ class CamDesign:
         limits and each side's stress the allowable.
         """
         dynamics, vibration, closure = self.dynamics_check, self.vibration_check, self.closure
+        if self.slave_excess:
+            return False
         if self.follower is None:  # motion only: nothing but the motion to judge
             return self.config.allow_velocity_jumps or not self.velocity_jumps
         if closure is not None:
@@ -260,7 +264,7 @@ class CamDesign:
             return (self.check.ok and closure.ok and (loads is None or loads.ok)
                     and (self.config.allow_velocity_jumps or not self.velocity_jumps))
         return (self.check.ok and (dynamics is None or dynamics.ok)
-                and (vibration is None or not vibration.leaves_cam)
+                and (vibration is None or vibration.ok)
                 and (self.config.allow_velocity_jumps or not self.velocity_jumps))
 
     def warnings(self) -> list[str]:
@@ -307,9 +311,23 @@ class CamDesign:
                          f'{at:.1f} deg, over the allowable {allowable:.6g} MPa')
         return notes
 
+    @cached_property
+    def slave_excess(self) -> str:
+        """Say which slave.* limits the e-cam exceeds at cam_speed ('' if none or unset)."""
+        limits = SlaveLimits.from_config(self.config)
+        if not limits.limited:
+            return ''
+        master = MasterConfig.from_config(self.config)
+        peaks = CamPeaks.of(ElectronicCam(self.program, master.mapping)).at(
+            master.nominal_speed, 0.0, limits.direction)
+        excess = peaks.excess(limits, AxisUnit.of(self.config))
+        return f'at cam_speed the slave axis exceeds its limits: {excess}' if excess else ''
+
     def _motion_warnings(self) -> list[str]:
-        """Say where s or its first two derivatives jump and where a task forces an overshoot."""
+        """Say where s or its derivatives jump, where a task overshoots, what exceeds slave.*."""
         unit, notes = self.config.position_unit, list[str]()
+        if self.slave_excess:
+            notes.append(self.slave_excess)
         for jump in self.program.continuity_report():
             if jump.order <= 2:
                 name = ('s', 'ds/dtheta', 'd2s/dtheta2')[jump.order]
@@ -350,7 +368,7 @@ class CamDesign:
         return notes
 
     def _vibration_warnings(self) -> list[str]:
-        """Say when the rigid model does not hold (VDI 2149) and when the output lifts off."""
+        """Say when the rigid model does not hold (VDI 2149), the train resonates, it lifts off."""
         vibration, notes = self.vibration_check, list[str]()
         if vibration is None:
             return notes
@@ -360,7 +378,9 @@ class CamDesign:
                          f'{vibration.frequency_ratio:.3g} times the cam frequency: VDI 2149 '
                          f'asks for {RIGID_RATIO:g} or more for a rigid-body analysis (see the '
                          'vibration figures)')
-        if vibration.leaves_cam:
+        if vibration.resonance is not None:
+            notes.append(vibration.resonance_note())
+        elif vibration.leaves_cam:
             notes.append(f'with the elastic train the follower leaves the cam at '
                          f'{cam_degrees(cast(float, vibration.elastic_force_min_at), 1):.1f} deg '
                          f'({self.config.cam_speed:.6g} rad/s): the force falls to '

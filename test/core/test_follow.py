@@ -11,7 +11,8 @@ import pytest
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
 from cam_ros.core.ecam.follow import (END_OF_PROFILE, ENGAGED, EngageConfig, ENGAGING, Follower,
                                       HOLDING, WAITING_CYCLE)
-from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterState
+from cam_ros.core.ecam.master import CamMapping, ElectronicCam
+from cam_ros.core.ecam.master_tracker import MasterState
 
 DEFAULT = Path(__file__).resolve().parents[2] / 'config' / 'default.yaml'
 CAM = ElectronicCam(build_design(parse_parameters(read_parameters_file(DEFAULT))).program,

@@ -1,4 +1,4 @@
-"""A real cam_node takes the speed of a 250 Hz master whose stamps jitter by ±0.2 ms to 2 %."""
+"""A real cam_node takes the speed of a 250 Hz master whose stamps jitter by ±0.2 ms to 1 %."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,21 +7,23 @@ from ecam_support import ecam_design, master_message, MasterLink, RPM
 from test_ecam import reference
 
 from cam_ros.core.ecam.cycle_clock import SETTLED
-from cam_ros.core.ecam.master import MasterTracker
+from cam_ros.core.ecam.master_tracker import MasterTracker
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 START_NS = 3_000 * 10 ** 9
 PERIOD_NS = 4_000_000  # 250 Hz
 JITTER_NS = 200_000
 SPEED = 600 * RPM
-LIMIT = 0.02  # the issue's figure
+WINDOW_NS = 50_000_000
+LIMIT = 0.01  # the issue asks 2 %
 SECOND = 10 ** 9
 
 
 def test_speed_from_jittered_stamps_in_setpoints_joint_states_and_diagnostics(
         start_cam_node, executor, report):
     process, _ = start_cam_node(DEFAULT, '-p', 'master.source:=topic', '-p',
-                                'master.timeout:=30.0', '-p', 'master.velocity_window:=0.05',
+                                'master.timeout:=30.0', '-p',
+                                f'master.velocity_window:={WINDOW_NS * 1e-9}',
                                 '-p', 'command.interface:=velocity')
     design = ecam_design(DEFAULT)
     link = MasterLink(executor)
@@ -39,10 +41,10 @@ def test_speed_from_jittered_stamps_in_setpoints_joint_states_and_diagnostics(
     master_speed = np.array([m.velocity[0] for m in joints])
     follower_velocity = np.array([m.velocity[1] for m in joints])
     _, exact = reference(design, q, SPEED)
-    settled = slice(SETTLED, None)
-    speed_error = np.abs(master_speed / SPEED - 1.0)[settled]
+    full = slice(WINDOW_NS // PERIOD_NS, None)  # from the first full window on
+    speed_error = np.abs(master_speed / SPEED - 1.0)[full]
     # A setpoint's error is its cam slope times the speed error: relative to the largest setpoint.
-    setpoint_error = np.abs(commands - exact)[settled] / np.abs(exact).max()
+    setpoint_error = np.abs(commands - exact)[full] / np.abs(exact).max()
     report('jittered master, speed error max (joint states)', f'{speed_error.max():.3%}')
     report('jittered master, velocity setpoint error max / peak', f'{setpoint_error.max():.3%}')
     assert commands.size == count

@@ -218,6 +218,14 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='length_unit|deg'),
     _p('slave.scaling', 'double', 1.0, 'Factor on the follower position', minimum=-1e3,
        maximum=1e3),
+    _p('slave.max_velocity', 'double', 0.0, 'Fastest the axis may be commanded: blends take the '
+       'master travel they need to stay within it (0: not limited)',
+       unit='length_unit|deg per s', minimum=0.0, maximum=1e9),
+    _p('slave.max_acceleration', 'double', 0.0, 'Largest acceleration the axis may be commanded '
+       '(0: not limited)', unit='length_unit|deg per s^2', minimum=0.0, maximum=1e12),
+    _p('slave.direction', 'string', 'any', 'Way the axis may move: any, or only positive or '
+       'negative (a knife or feed roll that must not turn back)',
+       choices=('any', 'positive', 'negative')),
     _p('switches.names', 'string_array', [], 'Cam switch tracks: bit i of ~/switches is track i'),
     _p('switches.on_deg', 'double_array', [], 'Cam angle where each track switches on',
        unit='deg', minimum=0.0, maximum=360.0),

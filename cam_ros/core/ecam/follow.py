@@ -1,20 +1,30 @@
 """
 Run a slave on an electronic cam: engage and disengage (PLCopen MC_CamIn start modes), master
-loss, one-shot cams, offset changes and design changes, all without a step in the commands.
+loss and new master origins, one-shot cams, offset changes and design changes, all without a step
+in the commands and, with slave limits set, within the axis's velocity, acceleration and
+direction (slave_limits).
 
-Start modes (master.engage_mode), used alike for ~/engage, at start-up and after a master loss:
+Start modes (master.engage_mode), used alike for ~/engage, at start-up, after a master loss and at
+a new master origin:
 
-- immediate: the slave takes the cam's value at once (a step unless it is already there).
+- immediate: the slave takes the cam's value at once (a step unless it is already there; with
+  slave limits set, a ramp instead, since a step exceeds any limit).
 - ramp: the slave leaves its held position on a Blend onto the cam over master.engage_distance_deg
-  of master travel (position, velocity and acceleration continuous at both ends).
+  of master travel (position, velocity and acceleration continuous at both ends), or over as much
+  travel as its limits need (plan_blend).
 - next_cycle: the slave holds until the cam angle passes 0, where the cam must command the held
   position at rest (else the engagement is refused with the reason).
 
 The held position is the last command; before any command, the slave's reported position
-(slave.state_topic) when known, else none: the slave then starts on the cam's own value.
-Offset changes blend from the old cam to the new one over the same distance; other design changes
-wait for a place the two designs share (Handover). A one-shot cam (master.periodic false) holds
-the position it reaches one master cycle (one cam turn) after its start: the end of profile.
+(slave.state_topic) when known, else none: the slave then starts on the cam's own value. A rotary
+slave joins the cam at a whole number of turns from where it is (slave_limits.join_turns), never
+by unwinding the turns it made.
+Offset changes blend from the old cam to the new one as engagements do; other design changes wait
+for a place the two designs share (Handover). A one-shot cam (master.periodic false) holds the
+position it reaches one master cycle (one cam turn) after its start: the end of profile.
+With slave limits or a direction set, a slave that can no longer follow (the master turned back
+under a one-way axis, or runs so fast that the cam exceeds the velocity limit) or is disengaged
+while moving stops within its acceleration limit (Stop), holds, and engages again once it can.
 """
 from __future__ import annotations
 
@@ -27,13 +37,18 @@ import numpy as np
 from ..cam_angles import TWO_PI
 from .engage import Blend, Held, SlavePath
 from .handover import Handover
-from .master import chain_rule, ElectronicCam, MasterState, Setpoints
+from .master import chain_rule, ElectronicCam, Setpoints
+from .master_tracker import MasterState
+from .slave_limits import (AxisUnit, CamPeaks, join_turns, Peaks, Plan, plan_blend, shifted,
+                           SlaveLimits)
+from .stop import Stop
 
 IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
 #: What the slave is doing: the message of ~/state and of the engagement diagnostics.
 HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle start', \
     'engaging', 'engaged'
-END_OF_PROFILE = 'end of profile'
+STOPPING, END_OF_PROFILE = 'stopping', 'end of profile'
+RUNNING = (ENGAGING, ENGAGED)
 #: next_cycle: largest difference (m or rad) between the held position and the cam at angle 0,
 #: and largest |dy/dtheta| there (per rad of cam), for a start without a step.
 NEXT_CYCLE_TOLERANCE = 1e-9
@@ -41,32 +56,47 @@ NEXT_CYCLE_TOLERANCE = 1e-9
 
 @dataclass(frozen=True)
 class EngageConfig:
-    """master.engage_mode, master.engage_distance_deg (in rad of master), master.periodic."""
+    """master.engage_mode, master.engage_distance_deg (in rad of master), master.periodic.
+
+    nominal_speed is the master speed at cam_speed (rad/s): blends are planned for at least it.
+    """
 
     mode: str = RAMP
     distance: float = math.radians(30.0)
     periodic: bool = True
+    nominal_speed: float = 0.0
 
     @classmethod
     def from_parameters(cls, values: Mapping[str, Any]) -> 'EngageConfig':
         """Read the (already checked) master.* parameters."""
         distance = math.radians(values['master.engage_distance_deg'])
-        return cls(values['master.engage_mode'], distance, values['master.periodic'])
+        return cls(values['master.engage_mode'], distance, values['master.periodic'],
+                   values['cam_speed'] * values['master.scaling'])
 
 
 class Follower:
-    """The slave's commands for each master sample, and what it is doing (phase, reason)."""
+    """The slave's commands for each master sample, and what it is doing (phase, reason).
 
-    def __init__(self, cam: ElectronicCam, config: EngageConfig, engage: bool):
-        self.cam, self.config = cam, config
+    unit says the slave's values in messages; events collects what the node logs
+    (blends planned, refusals, stops), oldest first.
+    """
+
+    def __init__(self, cam: ElectronicCam, config: EngageConfig, engage: bool,
+                 limits: SlaveLimits = SlaveLimits(), unit: AxisUnit = AxisUnit()):
+        self.cam, self.config, self.limits, self.unit = cam, config, limits, unit
         self.wanted = engage  # ~/engage's last word (master.engage_on_start at first)
         self.phase, self.reason = HOLDING, '' if engage else 'not engaged'
         self.held: Optional[float] = None  # the last position commanded
         self.present: Optional[float] = None  # the slave's reported position
         self.handover: Optional[Handover] = None
+        self.events: list[str] = []
+        self._turns = 0  # whole slave turns the cam is followed at (rotary slaves)
         self._path: SlavePath = cam
+        self._stop: Optional[Stop] = None
+        self._peaks = (cam, CamPeaks.of(cam) if limits.limited else None)
         self._start = 0.0  # master track where the cam run began
-        self._last: Optional[float] = None  # master track of the previous sample
+        self._last: Optional[MasterState] = None  # the previous sample
+        self._velocity = 0.0  # the last velocity commanded
         self._pending = engage  # the next sample starts an engagement
 
     @property
@@ -78,9 +108,14 @@ class Follower:
         """Engage (at the next master sample) or disengage (hold); return success and a message."""
         if not on:
             self.wanted = self._pending = False
-            self.phase, self.reason, self.handover = HOLDING, 'disengaged', None
-            return True, f'disengaged: holding at {self.held:.9g}' if self.held is not None \
-                else 'disengaged'
+            self.handover = None
+            if self.phase in RUNNING and self.limits.max_acceleration and self._last is not None:
+                self._begin_stop('disengaged')
+                return True, f'disengaged: stopping within slave.max_acceleration from ' \
+                    f'{self.unit.say(self._velocity, "/s")}'
+            self.phase, self.reason = HOLDING, 'disengaged'
+            return True, f'disengaged: holding at {self.unit.say(self.held)}' \
+                if self.held is not None else 'disengaged'
         self.wanted = True
         if self.phase in (ENGAGING, ENGAGED, WAITING_CYCLE):
             return True, f'already {self.phase}'
@@ -88,106 +123,243 @@ class Follower:
         if problem:
             self.phase, self.reason = HOLDING, problem
             return False, problem
-        self._pending, self.phase, self.reason = True, HOLDING, ''
+        self._pending = True
+        if self.phase != STOPPING:
+            self.phase, self.reason = HOLDING, ''
         return True, f'engaging ({self.config.mode}) at the next master message'
 
     def lose(self) -> None:
         """The master is lost: hold; engage again in the same mode when it returns."""
         self._last = None
-        if self.phase in (ENGAGING, ENGAGED):
-            self.phase, self.reason, self.handover = HOLDING, 'master lost', None
-            self._pending = True
+        if self.handover is not None:  # not following any more: the new design applies now
+            self._set_cam(shifted(self.handover.new, -self._turns, self.limits))
+            self.handover = None
+        if self.phase in RUNNING + (STOPPING,):
+            self.phase, self.reason, self._stop = HOLDING, 'master lost', None
+            self._pending = self.wanted
 
     def change(self, cam: ElectronicCam, config: EngageConfig) -> str:
         """Take a new design and start modes; return how the cam changes."""
         old, self.config = self.cam, config
-        self.cam, self.handover = cam, None
-        if self.phase not in (ENGAGING, ENGAGED) or self._last is None:
+        self.handover = None
+        if self.phase not in RUNNING or self._last is None:
+            self._set_cam(cam)
             self._path = cam
             if self.phase == WAITING_CYCLE:
                 self.phase, self._pending = HOLDING, True  # checked again on the new cam
             return 'applied at once (not following the master)'
         same = replace(old.mapping, master_offset=0.0, slave_offset=0.0) == replace(
             cam.mapping, master_offset=0.0, slave_offset=0.0) and old.program == cam.program
-        if same or self.phase == ENGAGING:
-            self._path, self.phase = Blend(self._path, cam, self._last, config.distance), ENGAGING
-            return f'blended over {math.degrees(config.distance):g} deg of master'
-        self.cam, self.handover = old, Handover(old, cam)
-        return f'pending: {self.handover.describe()}'
+        if not (same or self.phase == ENGAGING):
+            self.handover = Handover(self._joined(), shifted(cam, self._turns, self.limits))
+            return f'pending: {self.handover.describe()}'
+        plan = self._plan(self._path, cam, self._last, held=False)
+        if isinstance(plan, str):
+            self.cam = old
+            return f'refused, the slave runs on the old cam: {plan}'
+        self._path, self.phase = plan.blend, ENGAGING
+        return f'blended over {math.degrees(plan.blend.distance):.6g} deg of master'
 
     def command(self, state: MasterState) -> Optional[Setpoints]:
         """Return the setpoints for a master sample (None: nothing commanded yet, none due)."""
         track = state.track
+        if state.origin and self.phase in RUNNING:
+            self._begin_stop('new master origin')
+        elif state.origin and self.phase == WAITING_CYCLE:
+            self.phase, self.reason, self._pending = HOLDING, 'new master origin', self.wanted
+        if self.phase in RUNNING and self.limits.limited:
+            problem = self._cam_problem(state.omega, velocity_only=True)
+            if problem:
+                self._begin_stop(problem)
+        if self.phase == STOPPING:
+            return self._stopping(state)
         if self._pending and self.wanted:
-            self._begin(track)
+            self._begin(state)
         elif self.phase == WAITING_CYCLE:
             self._wait_for_cycle(track)
-        elif self.phase in (ENGAGING, ENGAGED):
+        elif self.phase in RUNNING:
             self._run(state)
-        self._last = track
         angle = self.cam.mapping.cam_angle(track)
-        if self.phase in (ENGAGING, ENGAGED):
+        if self.phase in RUNNING:
             point = chain_rule(angle, self._path.derivatives(track), state.omega, state.alpha)
+            if self.limits.direction * point.velocity < 0.0:  # the master turned back
+                self._begin_stop('the master turned back under slave.direction')
+                return self._stopping(state)
         else:
             origin = self._origin()
+            self._last = state
             if origin is None:
                 return None
             point = chain_rule(angle, Held(origin).derivatives(track), 0.0, 0.0)
-        self.held = float(point.position)
+        self._last = state
+        self.held, self._velocity = float(point.position), float(point.velocity)
         return point
 
     def ahead(self, state: MasterState, times: np.ndarray) -> Setpoints:
         """Return the setpoints at times (s) from now if the master keeps its speed."""
         master = state.track + state.omega * times
-        running = self.phase in (ENGAGING, ENGAGED)
+        angle = self.cam.mapping.cam_angle(master)
+        if self._stop is not None:
+            position, velocity, acceleration = self._stop.at(
+                (state.stamp_ns - self._stop.stamp_ns) * 1e-9 + times)
+            return Setpoints(angle, position, velocity, acceleration, np.zeros_like(times))
+        running = self.phase in RUNNING
         path = self._path if running else Held(self.held if self.held is not None else 0.0)
-        return chain_rule(self.cam.mapping.cam_angle(master), path.derivatives(master),
-                          state.omega if running else 0.0, 0.0)
+        return chain_rule(angle, path.derivatives(master), state.omega if running else 0.0, 0.0)
 
     def _origin(self) -> Optional[float]:
         """Return where the slave is held: the last command, else its reported position."""
         return self.held if self.held is not None else self.present
+
+    def _set_cam(self, cam: ElectronicCam) -> None:
+        """Follow a new design (its peaks are refined again only when its motion differs)."""
+        old = self._peaks[0]
+        same = old.program == cam.program and replace(old.mapping, slave_offset=0.0) == \
+            replace(cam.mapping, slave_offset=0.0)
+        self.cam = cam
+        if self.limits.limited and not same:
+            self._peaks = (cam, CamPeaks.of(cam))
+
+    def _joined(self) -> ElectronicCam:
+        """Return the cam on the whole slave turns the slave joined it at."""
+        return shifted(self.cam, self._turns, self.limits)
+
+    def _plan_speed(self, state: MasterState) -> float:
+        """
+        Return the master speed a blend is planned for: at least the speed at cam_speed.
+
+        Blends are planned at constant master speed: the master's own acceleration alpha adds
+        y' alpha to a blend's acceleration as it does to the cam's (and its estimate is noisy).
+        """
+        return math.copysign(max(abs(state.omega), self.config.nominal_speed), state.omega or 1.0)
+
+    def _cam_peaks(self, omega: float, alpha: float) -> Peaks:
+        """Return the cam's own peaks at a master speed and acceleration."""
+        peaks = self._peaks[1]
+        assert peaks is not None  # computed whenever limits are set
+        return peaks.at(omega, alpha, self.limits.direction)
+
+    def _cam_problem(self, omega: float, velocity_only: bool = False) -> str:
+        """Say why the cam itself cannot be followed at a master speed ('' if it can)."""
+        if not self.limits.limited:
+            return ''
+        peaks = self._cam_peaks(omega, 0.0)
+        if velocity_only:
+            peaks = peaks._replace(acceleration=0.0)
+        excess = peaks.excess(self.limits, self.unit)
+        return f'the cam at master speed {omega:.6g} rad/s: {excess}' if excess else ''
+
+    def _plan(self, start: SlavePath, cam: ElectronicCam, state: MasterState,
+              held: bool) -> Plan | str:
+        """Return the shortest blend within the limits onto the cam (whole turns chosen)."""
+        omega = self._plan_speed(state)
+        position = float(start.derivatives(state.track).y)
+        if self.limits.limited:
+            cam_peaks = self._cam_peaks(omega, 0.0)
+        else:
+            cam_peaks = CamPeaks.of(cam).at(omega, 0.0, 0)
+        candidates = join_turns(cam, state.track, position, self.limits, held)
+        plans = [plan_blend(start, shifted(cam, turns, self.limits), state.track, omega, 0.0,
+                            self.config.distance, self.limits, self.unit, cam_peaks)
+                 for turns in candidates]
+        found = [(plan.blend.distance, turns, plan) for turns, plan in zip(candidates, plans)
+                 if not isinstance(plan, str)]
+        if not found:
+            return str(plans[-1])
+        _, self._turns, plan = min(found, key=lambda each: each[0])
+        self._said_plan(plan, omega)
+        return plan
+
+    def _said_plan(self, plan: Plan, omega: float) -> None:
+        """Note a blend whose peaks exceed the cam's own at the planning speed."""
+        peaks, cam = plan.peaks, plan.cam
+        if peaks.velocity > cam.velocity or peaks.acceleration > cam.acceleration:
+            self.events.append(
+                f'blend over {math.degrees(plan.blend.distance):.6g} deg of master peaks at '
+                f'{self.unit.say(peaks.velocity, "/s")} and '
+                f'{self.unit.say(peaks.acceleration, "/s^2")} at master speed {omega:.6g} '
+                f'rad/s (the cam itself: {self.unit.say(cam.velocity, "/s")}, '
+                f'{self.unit.say(cam.acceleration, "/s^2")})')
 
     def _next_cycle_problem(self, origin: Optional[float]) -> str:
         """Say why next_cycle cannot start from origin ('' if it can, or for another mode)."""
         if self.config.mode != NEXT_CYCLE or origin is None:
             return ''
         y, slope = (float(value) for value in self.cam.slave(0.0))
+        if self.limits.turn:
+            y += self.limits.turn * round((origin - y) / self.limits.turn)
         if abs(y - origin) > NEXT_CYCLE_TOLERANCE or abs(slope) > NEXT_CYCLE_TOLERANCE:
-            return (f'next_cycle cannot engage: at cam angle 0 the cam commands {y:.9g} at '
-                    f'dy/dtheta {slope:.6g}, the slave holds {origin:.9g} at rest (use ramp)')
+            return (f'next_cycle cannot engage: at cam angle 0 the cam commands '
+                    f'{self.unit.say(y)} at dy/dtheta {slope:.6g}, the slave holds '
+                    f'{self.unit.say(origin)} at rest (use ramp)')
         return ''
 
-    def _begin(self, track: float) -> None:
+    def _begin(self, state: MasterState) -> None:
         """Start an engagement at this master sample in the configured mode."""
+        track, origin, mode = state.track, self._origin(), self.config.mode
+        problem = self._cam_problem(self._plan_speed(state))
+        if problem:
+            self.phase, self.reason = HOLDING, problem
+            return
         self._pending, self.reason = False, ''
-        origin, mode = self._origin(), self.config.mode
-        self.phase, self._path, self._start = ENGAGED, self.cam, track
-        if origin is None or mode == IMMEDIATE:
+        self.phase, self._path, self._start = ENGAGED, self._joined(), track
+        if origin is None:
             return
-        if mode == RAMP:
-            self.phase = ENGAGING
-            self._path = Blend(Held(origin), self.cam, track, self.config.distance)
+        if mode == NEXT_CYCLE:
+            problem = self._next_cycle_problem(origin)
+            self.phase, self.reason = (HOLDING, problem) if problem else (WAITING_CYCLE, '')
+            if not problem and self.limits.turn:
+                self._turns = round((origin - float(self.cam.slave(0.0)[0])) / self.limits.turn)
             return
-        problem = self._next_cycle_problem(origin)
-        self.phase, self.reason = (HOLDING, problem) if problem else (WAITING_CYCLE, '')
+        if mode == IMMEDIATE and not self.limits.limited and not self.limits.turn:
+            return
+        plan = self._plan(Held(origin), self.cam, state, held=True)
+        if isinstance(plan, str):
+            self.phase, self.reason = HOLDING, plan
+            return
+        self.phase, self._path = ENGAGING, plan.blend
+        if mode == IMMEDIATE and plan.blend.end.derivatives(track).y != origin:
+            self.events.append('immediate engagement ramps in: a step exceeds the slave limits')
+
+    def _begin_stop(self, why: str) -> None:
+        """Stop the slave from its last command within slave.max_acceleration, then hold."""
+        last = self._last
+        assert last is not None and self.held is not None
+        self._stop = Stop(last.stamp_ns, self.held, self._velocity, self.limits.max_acceleration)
+        self.phase, self.reason, self._pending = STOPPING, why, self.wanted
+        self.handover = None
+        self.events.append(f'stopping: {why} (from {self.unit.say(self._velocity, "/s")}, at '
+                           f'rest in {self._stop.duration:.6g} s at '
+                           f'{self.unit.say(self._stop.rest)})')
+
+    def _stopping(self, state: MasterState) -> Setpoints:
+        """Return the stop's setpoints at a sample; hold once the slave is at rest."""
+        stop = self._stop
+        assert stop is not None
+        position, velocity, acceleration = stop.at((state.stamp_ns - stop.stamp_ns) * 1e-9)
+        if stop.done(state.stamp_ns):
+            self._stop, self.phase = None, HOLDING
+        self._last, self.held, self._velocity = state, float(position), float(velocity)
+        return Setpoints(float(self.cam.mapping.cam_angle(state.track)), float(position),
+                         float(velocity), float(acceleration), 0.0)
 
     def _wait_for_cycle(self, track: float) -> None:
         """Engage where the cam angle passed 0 since the previous sample."""
         if self._last is None:
             return
         mapping = self.cam.mapping
-        turns = np.floor(mapping.turns([self._last, track]) / TWO_PI)
+        turns = np.floor(mapping.turns([self._last.track, track]) / TWO_PI)
         if turns[0] != turns[1]:
             crossed = max(turns) * TWO_PI * mapping.master_scaling + mapping.master_offset
-            self.phase, self._path, self._start = ENGAGED, self.cam, float(crossed)
+            self.phase, self._path, self._start = ENGAGED, self._joined(), float(crossed)
 
     def _run(self, state: MasterState) -> None:
         """Follow the path: finish a blend, hand a design over, end a one-shot cam."""
         track = state.track
-        if self.handover is not None and self.handover.due(track, state.step, state.omega):
-            self.cam = self._path = self.handover.new
-            self.handover = None
+        handover = self.handover
+        if handover is not None and handover.due(track, state.step, state.omega):
+            self._set_cam(shifted(handover.new, -self._turns, self.limits))
+            self._path, self.handover = handover.new, None
         if isinstance(self._path, Blend) and self._path.done(track):
             self._path, self.phase = self._path.end, ENGAGED
         cycle = TWO_PI * self.cam.mapping.master_scaling

@@ -1,0 +1,266 @@
+"""
+Keep a slave's commands within what its axis can do: velocity and acceleration limits, one
+direction of motion, and the whole turns of a rotary slave.
+
+A path y(q) of the master position q commands, at master speed omega and acceleration alpha,
+
+    v = y'(q) omega        a = y''(q) omega^2 + y'(q) alpha
+
+so a cam's peaks at a speed follow from its peaks per rad of master (CamPeaks, refined once per
+cam: max |v| = max |y'| |omega| exactly, max |a| <= max |y''| omega^2 + max |y'| |alpha|, exact
+at constant master speed and on the safe side otherwise).
+
+A blend (engage.Blend) from path A to path B over master travel D has v = Y' omega with
+Y' = (1 - b) A' + b B' + b' (B - A) / D: the longer the blend, the nearer its peaks come to those
+of A and B. plan_blend finds the shortest D, at least the engage distance, at which the blend's
+refined peaks over its whole travel stay within the limits and it never moves against the
+direction, at the master speed it is planned for (the larger of the present one and the speed
+at cam_speed): a faster master scales a blend's velocity as it scales the cam's own. A rotary
+slave (length_unit deg) joins the cam at a whole number of turns from its own position: the
+nearest, or in the allowed direction when the nearest cannot be reached without turning back.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import NamedTuple, Optional, Union
+
+import numpy as np
+
+from ..cam_angles import TWO_PI
+from ..config.parameters import UNITS
+from ..config.schema import CamConfig
+from ..extremes import refine_extrema
+from .engage import Blend, Held
+from .master import ElectronicCam
+
+Path = Union[ElectronicCam, Held, Blend]
+#: Grid of a peak search: samples per rad of cam angle travelled (0.1 deg), and the fewest.
+SAMPLES_PER_RAD, FEWEST_SAMPLES = 180.0 / math.pi / 0.1, 512
+#: A blend's travel grows by this factor until it is within the limits, up to LONGEST_CYCLES
+#: master cycles, then is bisected BISECTIONS times between the last two travels.
+GROWTH, LONGEST_CYCLES, BISECTIONS = 1.5, 64.0, 6
+#: Velocity (m/s or rad/s) against slave.direction that counts as none (round-off in a dwell).
+BACKWARD_TOLERANCE = 1e-9
+DIRECTIONS = {'any': 0, 'positive': 1, 'negative': -1}
+
+
+@dataclass(frozen=True)
+class SlaveLimits:
+    """slave.max_velocity, slave.max_acceleration (SI, 0: none), slave.direction, the turn."""
+
+    max_velocity: float = 0.0  # m/s or rad/s
+    max_acceleration: float = 0.0  # m/s^2 or rad/s^2
+    direction: int = 0  # +1 positive only, -1 negative only, 0 any
+    turn: float = 0.0  # a rotary slave's turn (2 pi rad); 0 for any other
+
+    @classmethod
+    def from_config(cls, config: CamConfig) -> 'SlaveLimits':
+        """Read the (already checked) slave.* parameters in the axis's unit."""
+        values = config.parameters
+        unit = math.radians(1.0) if config.oscillating else UNITS[config.length_unit]
+        return cls(values['slave.max_velocity'] * unit, values['slave.max_acceleration'] * unit,
+                   DIRECTIONS[values['slave.direction']],
+                   TWO_PI if config.length_unit == 'deg' else 0.0)
+
+    @property
+    def limited(self) -> bool:
+        """Say whether any limit or a direction is set."""
+        return bool(self.max_velocity or self.max_acceleration or self.direction)
+
+
+class AxisUnit(NamedTuple):
+    """How an axis's values are said: in SI and in the config's unit (name, per SI unit)."""
+
+    si: str = 'm'
+    name: str = 'm'
+    per_si: float = 1.0
+
+    @classmethod
+    def of(cls, config: CamConfig) -> 'AxisUnit':
+        """Return the unit of a design's slave positions."""
+        return cls(config.position_unit, *config.file_position_unit)
+
+    def say(self, value: float, per: str = '') -> str:
+        """Return a value (SI) with its unit, and in the config's unit beside when it differs."""
+        text = f'{value:.6g} {self.si}{per}'
+        if self.name == self.si:
+            return text
+        return f'{text} ({value * self.per_si:.6g} {self.name}{per})'
+
+
+class Peaks(NamedTuple):
+    """A command's largest |velocity|, |acceleration| and velocity against the direction."""
+
+    velocity: float
+    acceleration: float
+    backward: float  # largest velocity against slave.direction (<= 0: never backward)
+
+    def excess(self, limits: SlaveLimits, unit: AxisUnit) -> str:
+        """Say which limits these peaks exceed ('' if none), with the figures."""
+        over = []
+        if limits.max_velocity and self.velocity > limits.max_velocity:
+            over.append(f'velocity {unit.say(self.velocity, "/s")} over slave.max_velocity '
+                        f'{unit.say(limits.max_velocity, "/s")}')
+        if limits.max_acceleration and self.acceleration > limits.max_acceleration:
+            over.append(f'acceleration {unit.say(self.acceleration, "/s^2")} over '
+                        f'slave.max_acceleration {unit.say(limits.max_acceleration, "/s^2")}')
+        if limits.direction and self.backward > BACKWARD_TOLERANCE:
+            way = 'negative' if limits.direction > 0 else 'positive'
+            over.append(f'moves {way} at {unit.say(self.backward, "/s")} against '
+                        f'slave.direction')
+        return '; '.join(over)
+
+
+@dataclass(frozen=True)
+class CamPeaks:
+    """A cam's extremes per rad of master over a cycle: y' (least, most) and max |y''|."""
+
+    slope: tuple[float, float]
+    curvature: float
+
+    @classmethod
+    def of(cls, cam: ElectronicCam) -> 'CamPeaks':
+        """Refine the cam's extremes over one master cycle."""
+        low = cam.mapping.master_offset
+        high = low + TWO_PI * cam.mapping.master_scaling
+        (least, _), (most, _), (bend, _) = _refined(
+            lambda q: _slopes(cam, q), low, high, ('min', 'max', 'max'), _breaks(cam, low, high),
+            cam)
+        return cls((least, most), bend)
+
+    def at(self, omega: float, alpha: float, direction: int) -> Peaks:
+        """Return the cam's peaks at a master speed and acceleration (see the module)."""
+        steepest = max(-self.slope[0], self.slope[1])
+        against = max(-direction * self.slope[0] * omega, -direction * self.slope[1] * omega)
+        return Peaks(steepest * abs(omega), self.curvature * omega * omega
+                     + steepest * abs(alpha), against)
+
+
+def _slopes(cam: ElectronicCam, q: np.ndarray) -> np.ndarray:
+    """Return rows y', y', |y''| of a cam at master positions q (per rad of master)."""
+    d = cam.derivatives(q)
+    return np.array([d.dy, d.dy, np.abs(d.d2y)])
+
+
+def _commands(path: Path, q: np.ndarray, omega: float, alpha: float,
+              direction: int) -> np.ndarray:
+    """Return rows |v|, |a| and the velocity against the direction at master positions q."""
+    d = path.derivatives(q)
+    velocity = d.dy * omega
+    return np.array([np.abs(velocity), np.abs(d.d2y * omega * omega + d.dy * alpha),
+                     -direction * velocity])
+
+
+def _breaks(path: Path, low: float, high: float) -> np.ndarray:
+    """Return the master positions in [low, high] where the path or a derivative may jump."""
+    if isinstance(path, Held):
+        return np.empty(0)
+    if isinstance(path, Blend):
+        ends = np.array([path.q0 - path.distance, path.q0, path.q0 + path.distance])
+        return np.concatenate([_breaks(path.start, low, high), _breaks(path.end, low, high),
+                               ends[(ends >= low) & (ends <= high)]])
+    mapping = path.mapping
+    angles = np.asarray(path.program.breaks)
+    first = math.floor(((low - mapping.master_offset) / mapping.master_scaling
+                        - angles.max()) / TWO_PI)
+    last = math.ceil(((high - mapping.master_offset) / mapping.master_scaling
+                      - angles.min()) / TWO_PI)
+    turns = np.arange(first, last + 1)[:, np.newaxis] * TWO_PI
+    q = (mapping.master_offset + mapping.master_scaling * (angles + turns)).reshape(-1)
+    return q[(q >= low) & (q <= high)]
+
+
+def _refined(func, low: float, high: float, kinds: tuple[str, ...], breaks: np.ndarray,
+             cam: ElectronicCam) -> list[tuple[float, float]]:
+    """Refine the extremes of func's rows over master positions [low, high] (see extremes)."""
+    count = max(FEWEST_SAMPLES, math.ceil((high - low) / cam.mapping.master_scaling
+                                          * SAMPLES_PER_RAD))
+    q = np.unique(np.concatenate([np.linspace(low, high, count + 1), breaks]))
+    return refine_extrema(func, q, func(q), kinds, breaks=breaks, period=None)
+
+
+def path_peaks(path: Path, low: float, high: float, omega: float, alpha: float,
+               direction: int, cam: ElectronicCam) -> Peaks:
+    """Return the refined peaks of a path's commands over master positions [low, high]."""
+    found = _refined(lambda q: _commands(path, q, omega, alpha, direction), low, high,
+                     ('max', 'max', 'max'), _breaks(path, low, high), cam)
+    return Peaks(*(value for value, _ in found))
+
+
+class Plan(NamedTuple):
+    """A blend within the limits, its peaks and the end cam's own at the planning speed."""
+
+    blend: Blend
+    peaks: Peaks
+    cam: Peaks
+
+
+def _blend_peaks(blend: Blend, omega: float, alpha: float, direction: int,
+                 cam: ElectronicCam) -> Peaks:
+    """Return the peaks of a blend over its whole travel in the master's direction."""
+    low, high = sorted((blend.q0, blend.q0 + math.copysign(blend.distance, omega)))
+    return path_peaks(blend, low, high, omega, alpha, direction, cam)
+
+
+def plan_blend(start: Path, end: ElectronicCam, q0: float, omega: float, alpha: float,
+               least: float, limits: SlaveLimits, unit: AxisUnit,
+               cam: Peaks) -> Union[Plan, str]:
+    """
+    Return the shortest blend from start onto the cam end at master q0 within the limits.
+
+    omega, alpha: the master speed and acceleration planned for (rad/s, rad/s^2, omega not 0);
+    least: the shortest travel (rad of master); cam: the end cam's own peaks at that speed.
+    Return why not when no travel up to LONGEST_CYCLES master cycles keeps the blend within the
+    limits.
+    """
+    distance = least
+    peaks = _blend_peaks(Blend(start, end, q0, distance), omega, alpha, limits.direction, end)
+    if not limits.limited:
+        return Plan(Blend(start, end, q0, distance), peaks, cam)
+    longest = LONGEST_CYCLES * TWO_PI * end.mapping.master_scaling
+    shorter: Optional[float] = None
+    while peaks.excess(limits, unit):
+        if distance >= longest:
+            return (f'no blend up to {math.degrees(longest):.6g} deg of master keeps within the '
+                    f'limits: {peaks.excess(limits, unit)}')
+        shorter, distance = distance, min(distance * GROWTH, longest)
+        peaks = _blend_peaks(Blend(start, end, q0, distance), omega, alpha, limits.direction,
+                             end)
+    if shorter is not None:
+        for _ in range(BISECTIONS):
+            middle = 0.5 * (shorter + distance)
+            found = _blend_peaks(Blend(start, end, q0, middle), omega, alpha, limits.direction,
+                                 end)
+            if found.excess(limits, unit):
+                shorter = middle
+            else:
+                distance, peaks = middle, found
+    return Plan(Blend(start, end, q0, distance), peaks, cam)
+
+
+def shifted(cam: ElectronicCam, turns: int, limits: SlaveLimits) -> ElectronicCam:
+    """Return the cam moved by whole turns of a rotary slave (itself for other slaves)."""
+    if not turns or not limits.turn:
+        return cam
+    mapping = cam.mapping
+    return ElectronicCam(cam.program, replace(mapping, slave_offset=mapping.slave_offset
+                                              + turns * limits.turn))
+
+
+def join_turns(cam: ElectronicCam, q0: float, position: float, limits: SlaveLimits,
+               held: bool) -> list[int]:
+    """
+    Return the whole slave turns to try, best first, for joining the cam from position at q0.
+
+    The nearest; with a direction, also the nearest ahead of the slave in that direction (the
+    only one for a slave at rest: it cannot reach a cam behind it without turning back).
+    """
+    if not limits.turn:
+        return [0]
+    behind = (position - float(cam.derivatives(q0).y)) / limits.turn
+    nearest = round(behind)
+    if not limits.direction:
+        return [nearest]
+    ahead = math.ceil(behind) if limits.direction > 0 else math.floor(behind)
+    return [ahead] if held or ahead == nearest else [nearest, ahead]
