@@ -125,7 +125,12 @@ def dynamics_data(dynamics: DynamicsReport | None, form_closed: bool = False) ->
 
 
 def vibration_data(vibration: VibrationReport | None) -> dict[str, Any] | None:
-    """Return the report's 'vibration' object (SI, angles deg), None for a rigid train."""
+    """Return the report's 'vibration' object (SI, angles deg), None for a rigid train.
+
+    JSON has no infinity: an unbounded figure reads null, with resonance_harmonic (the output
+    grows without bound) or peak_rigid_acceleration_unbounded_deg (the designed motion's
+    velocity jumps there: its acceleration is an impulse) saying why.
+    """
     if vibration is None:
         return None
     v = vibration
@@ -135,13 +140,16 @@ def vibration_data(vibration: VibrationReport | None) -> dict[str, Any] | None:
         'compensated': v.compensated,
         'frequency_ratio': v.frequency_ratio,
         'rigid_ok': v.rigid_ok,
+        'resonance_harmonic': v.resonance,
         'segments': [{'index': s.index, 'r': s.r, 'residual_amplitude': s.residual_amplitude,
-                      'residual_ratio': s.residual_ratio} for s in v.segments],
+                      'residual_ratio': s.residual_ratio, 'law_amplitude': s.law_amplitude}
+                     for s in v.segments],
         'max_output_deviation': v.max_output_deviation,
         'max_output_deviation_deg': cam_degrees(v.max_output_deviation_at),
         'peak_output_acceleration': v.peak_output_acceleration,
         'peak_output_acceleration_deg': cam_degrees(v.peak_output_acceleration_at),
         'peak_rigid_acceleration': v.peak_rigid_acceleration,
+        'peak_rigid_acceleration_unbounded_deg': [cam_degrees(a) for a in v.velocity_jumps],
         'elastic_force_min': v.elastic_force_min,
         'elastic_force_min_deg': None if v.elastic_force_min_at is None
         else cam_degrees(v.elastic_force_min_at),
@@ -164,21 +172,42 @@ def _vibration_rows(report: DesignReport) -> list[tuple[str, str]]:
                          'rad/s (polydyne): its output is the designed motion at this speed '
                          'only (at speed w\' it is off by the response to '
                          '2 zeta (w - w\') / wn s\' + (w^2 - w\'^2) / wn^2 s\'\')'))
-    rows += [('', f'after segment {s.index}: residual {number(s.residual_amplitude)} {unit} '
-                  f'= {s.residual_ratio:.3g} of the stroke at r = T fn = {s.r:.4g} (undamped)')
-             for s in v.segments]
-    rows.append(('', f'output at speed: max |x - s| {number(v.max_output_deviation)} {unit} at '
-                     f'{cam_degrees(v.max_output_deviation_at, 1):.1f} deg; peak acceleration '
-                     f'{number(v.peak_output_acceleration)} {unit}/s^2 at '
-                     f'{cam_degrees(v.peak_output_acceleration_at, 1):.1f} deg (rigid '
-                     f'{number(v.peak_rigid_acceleration)})'))
+    for s in v.segments:
+        ramp = design.surface.segments[s.index].ramp
+        of = (f'of the law\'s amplitude |h - v beta| {_position(design, s.law_amplitude)} (the '
+              'stroke less the ramp\'s travel)' if ramp else 'of the stroke')
+        rows.append(('', f'after segment {s.index}: residual '
+                         f'{_position(design, s.residual_amplitude)} = {s.residual_ratio:.3g} '
+                         f'{of} at r = T fn = {s.r:.4g} (undamped)'))
+    rigid = (f'rigid {number(v.peak_rigid_acceleration)} {unit}/s^2' if not v.velocity_jumps else
+             'rigid: unbounded, the velocity jumps at ' + ', '.join(
+                 f'{cam_degrees(a, 1):.1f}' for a in v.velocity_jumps) + ' deg')
+    if v.resonance is not None:
+        rows.append(('', f'output at speed: NO steady state: harmonic {v.resonance} of the cam '
+                         'motion drives the undamped train at fn, its vibration grows without '
+                         f'bound (deviation, acceleration unbounded; {rigid})'))
+    else:
+        rows.append(('', f'output at speed: max |x - s| '
+                         f'{_position(design, v.max_output_deviation)} at '
+                         f'{cam_degrees(v.max_output_deviation_at, 1):.1f} deg; peak acceleration '
+                         f'{number(v.peak_output_acceleration)} {unit}/s^2 at '
+                         f'{cam_degrees(v.peak_output_acceleration_at, 1):.1f} deg ({rigid})'))
     if v.elastic_force_min is not None:
         force = 'N m' if design.config.oscillating else 'N'
-        rows.append(('', f'least follower force with the output\'s acceleration '
+        rows.append(('', 'least follower force with the output\'s acceleration: unbounded below: '
+                         'LEAVES the cam' if v.elastic_force_min_at is None else
+                         f'least follower force with the output\'s acceleration '
                          f'{number(v.elastic_force_min)} {force} at '
-                         f'{cam_degrees(v.elastic_force_min_at or 0.0, 1):.1f} deg: '
+                         f'{cam_degrees(v.elastic_force_min_at, 1):.1f} deg: '
                          + ('LEAVES the cam' if v.leaves_cam else 'stays on the cam')))
     return rows
+
+
+def _position(design: CamDesign, value: float) -> str:
+    """Return a position or length (m or rad) with its unit, and in the config's unit beside."""
+    unit, factor = design.config.file_position_unit
+    si = design.config.position_unit
+    return f'{number(value)} {si}' + ('' if unit == si else f' ({number(value * factor)} {unit})')
 
 
 def _limit_state(ok: bool | None) -> str:

@@ -1,9 +1,11 @@
 """Draw a design's elastic-train figures: residual-vibration spectra and the output at speed.
 
-Left: R/h over r = T fn from SPECTRUM_RANGE of each moving segment's law (Rothbart ch. 13's
-spectrum, undamped train), the design's operating points marked. Right: the train's periodic
-output x over one revolution against the designed motion s (and the polydyne cam's own motion
-y when compensated), in the config's position unit, with x - s on a second axis.
+Left: R/a (a the law's amplitude: the stroke, less a ramp's travel) over r = T fn from
+SPECTRUM_RANGE of each moving segment's law (Rothbart ch. 13's spectrum, undamped train), the
+design's operating points marked. Right: the train's periodic output x over one revolution
+against the designed motion s (and the polydyne cam's own motion y when compensated), in the
+config's position unit, with x - s on a second axis; for an undamped train at a resonance,
+which has no periodic output, a note saying so.
 matplotlib's object API only, as in plot.py.
 """
 from __future__ import annotations
@@ -14,7 +16,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from cam_ros.core import CamDesign, InvalidParameter
-from cam_ros.core.dynamics.vibration import periodic_response, residual_ratio
+from cam_ros.core.dynamics.periodic import periodic_response
+from cam_ros.core.dynamics.vibration import residual_ratio
 from cam_ros.output.plot import DPI, FORMATS
 
 if TYPE_CHECKING:
@@ -49,12 +52,17 @@ def vibration_figure(design: CamDesign, title: str = '') -> Figure:
                       color=line.get_color(), markersize=6, gid='operating point')
     spectrum.set_xlim(*SPECTRUM_RANGE)
     spectrum.set_xlabel('r = segment duration x natural frequency')
-    spectrum.set_ylabel('residual amplitude / stroke (undamped)')
+    spectrum.set_ylabel('residual amplitude / law amplitude (undamped)')
     spectrum.set_title(f'Residual vibration at {train.natural_frequency:g} Hz '
                        '(dots: this design)', fontsize=10)
     spectrum.grid(True, which='both', linewidth=0.3)
     spectrum.legend(fontsize=8)
-    _output_panel(design, output)
+    if report.resonance is None:
+        _output_panel(design, output)
+    else:  # no periodic output to draw: say why on the panel
+        output.set_axis_off()
+        output.text(0.5, 0.5, 'No steady output: ' + report.resonance_note(), wrap=True,
+                    ha='center', va='center', transform=output.transAxes)
     if title:
         figure.suptitle(title)
     return figure

@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 from cli_support import (assert_one_error_line, DEFAULT_CONFIG, follower_config, FOLLOWERS, OMEGA,
-                         run_cli, seed_000_motion, seed_000_roller, SHIPPED_CONFIGS)
+                         run_cli, seed_000_motion, seed_000_roller, SHIPPED_CONFIGS,
+                         write_config)
 
 from cam_ros.commands.common import load_design
 
@@ -139,3 +140,17 @@ def test_every_shipped_config_samples(config, capsys):
     columns = len(FIELDS) + (3 if design.dynamics else 0)  # contact force, torque, stress
     assert len(rows[0]) == columns and values.shape == (72, columns)
     np.testing.assert_array_equal(values[:, 1], design.evaluate(values[:, 0]).position)
+
+
+@pytest.mark.filterwarnings('error')  # no NumPy RuntimeWarning on the way
+def test_an_undamped_train_at_resonance_samples_and_says_it_is_unbounded(tmp_path, capsys):
+    def edit(parameters):
+        parameters['dynamics'] = {'train_natural_frequency': 6.0, 'train_damping_ratio': 0.0}
+    run = run_cli(capsys, 'sample', write_config(tmp_path, 'resonant', edit), '--step-deg', 90)
+    assert run.code == 1 and len(run.out.splitlines()) == 1 + 4
+    [line] = [line for line in run.err.splitlines() if 'resonates' in line]
+    assert line == ('cam_ros sample: warning: the undamped follower train resonates: fn 6 Hz is '
+                    "6 x the cam frequency, so harmonic 6 of the cam's motion drives it at its "
+                    "natural frequency and the output's vibration grows without bound (no "
+                    'steady state); give dynamics.train_damping_ratio > 0 or move fn off the '
+                    'multiple')

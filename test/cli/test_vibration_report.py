@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from cli_support import (assert_one_error_line, CONFIG_DIR, DEFAULT_CONFIG, png_size, run_cli,
-                         write_config)
+import yaml
+from cli_support import (assert_one_error_line, CONFIG_DIR, DEFAULT_CONFIG, load_parameters,
+                         png_size, run_cli, write_config)
 
 from cam_ros.commands.common import load_design
 from cam_ros.output.plot import DPI
@@ -93,3 +94,76 @@ def test_plot_vibration_without_a_train_is_one_clear_error(tmp_path, capsys):
     run = run_cli(capsys, 'plot', DEFAULT_CONFIG, '-o', target, '--vibration')
     assert_one_error_line(run, 'plot', '--vibration', 'dynamics.train_natural_frequency')
     assert not target.exists()
+
+
+def cv_config(tmp_path):
+    """The issue's case as a file: the machine cam with constant-velocity rise and return."""
+    parameters = load_parameters(CONFIG_DIR / 'machine_dynamics.yaml')
+    parameters['motion']['laws'] = ['constant_velocity', 'dwell', 'constant_velocity', 'dwell']
+    parameters['limits'].update(allow_velocity_jumps=True, pressure_angle_deg=60.0)
+    parameters['dynamics'].update(train_natural_frequency=2500.0, train_damping_ratio=0.05)
+    path = tmp_path / 'cv_2500.yaml'
+    path.write_text(yaml.safe_dump({'/**': {'ros__parameters': parameters}}))
+    return path
+
+
+def test_an_unbounded_rigid_acceleration_reads_null_and_says_where(tmp_path, capsys):
+    config = cv_config(tmp_path)
+    vibration = json.loads(run_cli(capsys, 'report', config, '--json').out)['vibration']
+    assert vibration['peak_rigid_acceleration'] is None  # JSON has no infinity
+    assert vibration['peak_rigid_acceleration_unbounded_deg'] == [0.0, 100.0, 180.0, 280.0]
+    assert vibration['resonance_harmonic'] is None
+    # the closed form of test/core/test_periodic.py: 4.39198975584e-05 m
+    assert vibration['max_output_deviation'] == pytest.approx(4.39198975584e-05, rel=1e-10)
+    text = run_cli(capsys, 'report', config).out
+    assert ('(rigid: unbounded, the velocity jumps at 0.0, 100.0, 180.0, 280.0 deg)' in text)
+    assert 'max |x - s| 4.39199e-05 m (0.0439199 mm) at ' in text
+    smooth = json.loads(run_cli(capsys, 'report', train_config(tmp_path, 6.0), '--json').out)
+    assert smooth['vibration']['peak_rigid_acceleration_unbounded_deg'] == []
+    assert smooth['vibration']['peak_rigid_acceleration'] == pytest.approx(
+        0.02 * 2.0 * math.pi / (math.pi / 2) ** 2 * (2.0 * math.pi) ** 2)
+
+
+def test_a_g_g_residual_says_it_is_of_the_law_s_amplitude(tmp_path, capsys):
+    # config/flying_shear.yaml's synchronous section as a cycloidal G-G rise of 36 mm, 30 of
+    # them on the 0.5 mm/deg ramp: the ratio is of the other 6 mm.
+    parameters = load_parameters(CONFIG_DIR / 'flying_shear.yaml')
+    parameters['motion'].update(
+        laws=['poly5', 'cycloidal', 'poly5', 'cycloidal'],
+        start_position=[0.0, 20.0, 56.0, 70.0], end_position=[20.0, 56.0, 70.0, 0.0],
+        start_velocity=[math.nan, 0.5, math.nan, math.nan],
+        end_velocity=[math.nan, 0.5, math.nan, math.nan])
+    parameters['limits']['pressure_angle_deg'] = 60.0
+    parameters['dynamics'] = {'train_natural_frequency': 20.0}
+    config = tmp_path / 'gg.yaml'
+    config.write_text(yaml.safe_dump({'/**': {'ros__parameters': parameters}}))
+    vibration = json.loads(run_cli(capsys, 'report', config, '--json').out)['vibration']
+    [rise] = [s for s in vibration['segments'] if s['index'] == 1]
+    assert rise['law_amplitude'] == pytest.approx(0.006)
+    assert rise['residual_amplitude'] == pytest.approx(0.006 * rise['residual_ratio'])
+    text = run_cli(capsys, 'report', config).out
+    line = next(line for line in text.splitlines() if 'after segment 1:' in line)
+    assert "of the law's amplitude |h - v beta| 0.006 m (6 mm)" in line
+    assert 'of the stroke at' in next(line for line in text.splitlines()
+                                      if 'after segment 3:' in line)
+
+
+@pytest.mark.filterwarnings('error')
+def test_an_undamped_train_at_resonance_is_said_unbounded(tmp_path, capsys):
+    def edit(parameters):
+        parameters['dynamics'] = {'train_natural_frequency': 6.0, 'train_damping_ratio': 0.0}
+    config = write_config(tmp_path, 'resonant', edit)
+    run = run_cli(capsys, 'report', config, '--json')
+    assert run.code == 1
+    vibration = json.loads(run.out)['vibration']
+    assert vibration['resonance_harmonic'] == 6
+    assert vibration['max_output_deviation'] is None
+    assert vibration['peak_output_acceleration'] is None
+    text = run_cli(capsys, 'report', config).out
+    assert 'output at speed: NO steady state: harmonic 6 of the cam motion' in text
+    assert 'grows without bound' in text and 'VIOLATES' in text
+    target = tmp_path / 'resonant.png'
+    assert run_cli(capsys, 'plot', config, '-o', target, '--vibration').code == 1
+    assert target.exists()
+    note = vibration_figure(load_design(config)).axes[1].texts[0].get_text()
+    assert note.startswith('No steady output: the undamped follower train resonates')

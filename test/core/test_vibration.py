@@ -11,10 +11,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from test_laws import LAW_PARAMS, law_named
+from test_periodic import CV_DESIGN
 
 from cam_ros.core import build_design, InvalidParameter, parse_parameters
-from cam_ros.core.dynamics.vibration import (periodic_response, residual_ratio, TrainConfig,
-                                             vibration_report)
+from cam_ros.core.dynamics.periodic import periodic_response
+from cam_ros.core.dynamics.train import TrainConfig
+from cam_ros.core.dynamics.vibration import residual_ratio, vibration_report
 
 #: Duration ratios r = T fn away from the closed forms' removable singularities.
 RATIOS = np.array([0.05, 0.3, 0.7, 1.3, 1.5, 2.0, 2.5, 3.0, 4.2, 6.6, 9.9])
@@ -30,6 +32,20 @@ DESIGN = {
     'motion.start_deg': [0.0, 90.0, 180.0, 240.0], 'motion.end_deg': [90.0, 180.0, 240.0, 360.0],
     'motion.start_position': [0.0, 0.0, 2.0, 2.0], 'motion.end_position': [0.0, 2.0, 2.0, 0.0],
     'dynamics.train_natural_frequency': 6.0, 'dynamics.train_damping_ratio': 0.1,
+}
+#: config/flying_shear.yaml with a cycloidal G-G section (20 to 56 mm over 80-140 deg at
+#: 0.5 mm/deg) in place of its constant-velocity one, on a 20 Hz train.
+GG_DESIGN = {
+    'length_unit': 'mm', 'rotation': 'clockwise', 'cam_speed': 2.0 * math.pi,
+    'follower.type': 'translating_roller', 'follower.base_radius': 60.0,
+    'follower.roller_radius': 15.0,
+    'motion.laws': ['poly5', 'cycloidal', 'poly5', 'cycloidal'],
+    'motion.start_deg': [0.0, 80.0, 140.0, 220.0], 'motion.end_deg': [80.0, 140.0, 220.0, 360.0],
+    'motion.start_position': [0.0, 20.0, 56.0, 70.0],
+    'motion.end_position': [20.0, 56.0, 70.0, 0.0],
+    'motion.start_velocity': [math.nan, 0.5, math.nan, math.nan],
+    'motion.end_velocity': [math.nan, 0.5, math.nan, math.nan],
+    'limits.pressure_angle_deg': 60.0, 'dynamics.train_natural_frequency': 20.0,
 }
 
 
@@ -82,36 +98,6 @@ def test_constant_velocity_excites_nothing_of_its_own():
 def test_bad_ratios_are_refused():
     with pytest.raises(InvalidParameter, match='must be finite and >= 0'):
         residual_ratio(law_named('cycloidal'), [1.0, -0.5])
-
-
-def test_periodic_response_is_what_a_long_transient_settles_to():
-    design = build_design(parse_parameters(DESIGN))
-    train, omega = design.config.train, design.config.cam_speed
-    response = periodic_response(design.program, omega, train)
-    wn, zeta = train.omega_n, train.damping_ratio
-    period = 2.0 * math.pi / omega
-    cycles = 12  # the transient decays as exp(-zeta wn t): exp(-0.1 * 37.7 * 12) ~ 2e-20
-
-    def rhs(t, z):
-        s = float(design.program.evaluate(omega * t).s)
-        return [z[1], wn * wn * (s - z[0]) - 2.0 * zeta * wn * z[1]]
-
-    breaks = np.sort(np.asarray(design.program.breaks) % (2.0 * math.pi)) / omega
-    times = np.unique(np.concatenate([breaks + k * period for k in range(cycles)]
-                                     + [[cycles * period]]))
-    state, last = np.zeros(2), []
-    check = np.linspace(0.0, period, 50, endpoint=False)
-    for a, b in zip(np.concatenate([[0.0], times[:-1]]), times):
-        inside = [t for t in (cycles - 1) * period + check if a <= t < b]
-        solved = solve_ivp(rhs, (a, b), state, method='DOP853', rtol=1e-12, atol=1e-15,
-                           dense_output=bool(inside))
-        if inside:
-            last += list(zip(inside, solved.sol(inside)[0]))
-        state = solved.y[:, -1]
-    t, x = np.array(last).T
-    expected = response.at(omega * (t - (cycles - 1) * period))
-    stroke = 0.02
-    np.testing.assert_allclose(x, expected, rtol=0.0, atol=1e-9 * stroke)
 
 
 def test_the_report_refines_its_extremes_and_warns_under_vdi_2149():
@@ -190,15 +176,57 @@ def test_the_vibration_report_takes_any_program_and_speed():
     assert [s.r for s in slow.segments] == pytest.approx([3.0, 4.0])
 
 
-def test_the_series_anywhere_reproduces_the_inverse_fft_on_the_grid():
-    design = build_design(parse_parameters(DESIGN))
-    response = periodic_response(design.program, design.config.cam_speed, design.config.train)
-    every = slice(None, None, 97)
-    for order, grid in enumerate((response.output, response.output_velocity,
-                                  response.output_acceleration)):
-        scale = float(np.max(np.abs(grid)))
-        np.testing.assert_allclose(response.at(response.angle[every], order), grid[every],
-                                   rtol=0.0, atol=1e-13 * scale)
-    # Periodic in the cam angle, for angles outside [0, 2 pi) too.
-    np.testing.assert_allclose(response.at(response.angle[every] - 4.0 * math.pi),
-                               response.output[every], rtol=0.0, atol=1e-12 * 0.02)
+def test_the_rigid_acceleration_is_unbounded_where_the_velocity_jumps():
+    # A constant-velocity rise and return: s' jumps at all four joints, s'' is an impulse
+    # there. The largest |s''| is unbounded, not 0 (the laws' own peaks), nor a smooth peak.
+    design = build_design(parse_parameters(CV_DESIGN))
+    report = design.vibration_check
+    assert report.peak_rigid_acceleration == math.inf
+    assert report.velocity_jumps == pytest.approx(np.radians([0.0, 100.0, 180.0, 280.0]))
+    # One jump is enough: the cycloidal return leaves the rise's two jumps (at 0 and 100 deg).
+    mixed = build_design(parse_parameters({**CV_DESIGN, 'motion.laws': [
+        'constant_velocity', 'dwell', 'cycloidal', 'dwell']})).vibration_check
+    assert mixed.peak_rigid_acceleration == math.inf
+    assert mixed.velocity_jumps == pytest.approx(np.radians([0.0, 100.0]))
+    # Without jumps: the largest |s''| of the laws, as before.
+    smooth = build_design(parse_parameters(DESIGN)).vibration_check
+    assert smooth.velocity_jumps == ()
+    assert smooth.peak_rigid_acceleration == pytest.approx(
+        0.02 * 2.0 * math.pi / (math.pi / 2) ** 2 * (2.0 * math.pi) ** 2)  # cycloidal 2 pi h/b^2
+
+
+def test_the_residual_of_a_g_g_segment_is_of_the_law_s_amplitude_not_the_stroke():
+    # The flying shear's synchronous section as a cycloidal G-G rise of 36 mm at 0.5 mm/deg
+    # over 60 deg: the ramp carries 30 mm, the law the other H - v X = 6 mm.
+    design = build_design(parse_parameters(GG_DESIGN))
+    [rise] = [s for s in design.vibration_check.segments if s.index == 1]
+    r = math.radians(60.0) / (2.0 * math.pi) * 20.0
+    closed = abs(math.sin(math.pi * r)) / (math.pi * r * abs(1.0 - r * r))
+    assert rise.r == pytest.approx(r) and rise.residual_ratio == pytest.approx(closed, abs=1e-12)
+    assert rise.law_amplitude == pytest.approx(0.006, rel=1e-12)
+    assert rise.residual_amplitude == pytest.approx(closed * 0.006, rel=1e-12)
+
+
+@pytest.mark.filterwarnings('error')
+def test_an_undamped_train_at_resonance_is_unbounded_and_fails_the_verdict():
+    # fn 6 Hz, the cam at 1 Hz, no damping: harmonic 6 of the motion drives the train at its
+    # natural frequency and the output grows without bound; no NumPy warning on the way.
+    dynamics = {'dynamics.mass': 2.0, 'dynamics.spring_rate': 100.0,
+                'dynamics.spring_preload': 50.0, 'contact.face_width': 1.0}
+    for extra, force in (({}, None), (dynamics, -math.inf)):
+        design = build_design(parse_parameters({**DESIGN, **extra,
+                                                'dynamics.train_damping_ratio': 0.0}))
+        report = design.vibration_check
+        assert report.resonance == 6 and not report.ok and not design.ok
+        assert report.max_output_deviation == math.inf
+        assert report.peak_output_acceleration == math.inf
+        assert report.elastic_force_min == force and report.elastic_force_min_at is None
+        notes = [note for note in design.warnings() if 'resonates' in note]
+        assert notes == [report.resonance_note()]
+        assert 'is 6 x the cam frequency' in notes[0] and 'grows without bound' in notes[0]
+        assert not any('leaves the cam at' in note for note in design.warnings())
+    # Off the multiple the undamped train has its periodic output (large, finite).
+    near = build_design(parse_parameters({**DESIGN, 'dynamics.train_damping_ratio': 0.0,
+                                          'dynamics.train_natural_frequency': 6.01}))
+    assert near.vibration_check.resonance is None
+    assert 0.0 < near.vibration_check.max_output_deviation < math.inf

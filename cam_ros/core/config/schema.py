@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..dynamics.follower import DynamicsConfig, parse_dynamics
-from ..dynamics.vibration import parse_train, TrainConfig
+from ..dynamics.train import parse_train, TrainConfig
 from ..errors import InvalidParameter
 # The parameters one by one live in parameters, the file side of the format (safe YAML reading,
 # node sections) in params_file.

@@ -25,7 +25,7 @@ from ..errors import InvalidParameter
 from ..motion.laws import ConstantVelocity, Dwell, PolynomialShape
 from ..motion.program import MotionProgram
 from ..motion.segment import is_jump, Segment
-from .vibration import TrainConfig
+from .train import TrainConfig
 
 #: Derivatives of s that must be continuous everywhere for the compensated cam to be smooth.
 ORDERS = 4

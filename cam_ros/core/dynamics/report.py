@@ -19,15 +19,21 @@ from .follower import DynamicsValues, FollowerDynamics
 
 Array = npt.NDArray[np.float64]
 
+#: A preload needed below this fraction of the design's force scale (the largest |k s| plus the
+#: safety factor times the largest |m a + c v + F_ext|) is rounding noise and reads 0.
+PRELOAD_TOLERANCE = 1e-9
+
 
 @dataclass(frozen=True)
 class DynamicsReport:
     """Dynamics of a design at its cam speed (N, N m, W, Pa, m, rad, rad/s).
 
     Forces and torques are in N and N m (moments in N m for oscillating arms: spring preload).
-    jump_angles are the (start, end) spans where the contact force is negative (the follower
-    would leave the cam), a span may wrap through 0; jump_speed is the lowest cam speed at which
-    the contact force reaches zero somewhere (None if never, 0 if already at rest).
+    spring_preload_needed is 0 when none is needed (or less than PRELOAD_TOLERANCE of the
+    forces: rounding). jump_angles are the (start, end) spans where the contact force is
+    negative (the follower would leave the cam), a span may wrap through 0; jump_speed is the
+    lowest cam speed at which the contact force reaches zero somewhere (None if never, 0 if
+    already at rest).
     camshaft_torque_max is the largest |T|, power_max that times the cam speed; cycle_work is
     the net work per revolution (damping and friction; 0 for a conservative train).
     contact_stress_ok is None when no allowable is configured. contact_stress_max is NaN (at the
@@ -137,6 +143,9 @@ def dynamics_report(model: FollowerDynamics, program: MotionProgram,
                                   inverse(model.jump_speeds(*motion)), 'max', breaks=breaks)
     needed, _ = refine_extremum(per_motion(model.preload_shortfall), theta,
                                 model.preload_shortfall(*motion), 'max', breaks=breaks)
+    force, spring = model.follower_force(*motion)
+    scale = (np.max(np.abs(spring - config.spring_preload))
+             + config.jump_safety_factor * np.max(np.abs(force - spring)))
     at_peak = evaluate(np.array([stress_at]))
     width = model.half_width(cast(DynamicsValues, at_peak.dynamics).contact_force,
                              at_peak.radius_of_curvature)
@@ -148,7 +157,7 @@ def dynamics_report(model: FollowerDynamics, program: MotionProgram,
                                     grid.contact_force, breaks),
         jump_speed=1.0 / rate if rate > 0.0 else None,
         spring_preload=config.spring_preload,
-        spring_preload_needed=max(0.0, needed),
+        spring_preload_needed=needed if needed > PRELOAD_TOLERANCE * scale else 0.0,
         camshaft_torque_max=torque, camshaft_torque_max_at=torque_at,
         camshaft_torque_rms=float(np.sqrt(np.mean(grid.camshaft_torque ** 2))),
         power_max=torque * model.omega,

@@ -6,16 +6,19 @@ The train between cam and output is one spring-mass stage of natural frequency f
     x'' + 2 zeta omega_n x' + omega_n^2 x = omega_n^2 y        (time derivatives).
 
 * Residual vibration of a moving segment (undamped train, Rothbart ch. 13): a segment of
-  duration T and stroke h with normalised law f leaves the output oscillating about the cam
-  motion with amplitude R, R/h = |V(2 pi r)| at r = T fn, where for a law at rest at both ends
-  V(W) = int_0^1 f'(u) exp(-i W u) du. For any other law the same R is the vibration its own
-  acceleration excites in a train that entered it without vibration,
-  R/h = |int_0^1 f''(u) exp(-i W u) du| / W (equal to |V| at rest ends); a velocity jump at a
-  joint is an impulse of its own and not included. Computed by Gauss-Legendre quadrature on
-  the law's smooth pieces, fine enough for the oscillation: exact to rounding, no simulation.
-* Periodic response: at a constant cam speed y is periodic; the steady state is the periodic
-  solution, computed from the Fourier series of y (each harmonic k omega multiplied by the
-  train's frequency response), not by running a transient until it decays.
+  duration T whose law f (0 to 1) moves the follower by the law's amplitude a leaves the output
+  oscillating about the cam motion with amplitude R, R/a = |V(2 pi r)| at r = T fn, where for
+  a law at rest at both ends V(W) = int_0^1 f'(u) exp(-i W u) du. a is the stroke h of a
+  rest-to-rest segment and h - v beta (stroke less the ramp's travel, VDI 2143's H - v X) of a
+  motion task under a ramp v (G-G, R-G, ...): the ramp itself excites nothing. For any law
+  not at rest at both ends the same R is the vibration its own acceleration excites in a train
+  that entered it without vibration, R/a = |int_0^1 f''(u) exp(-i W u) du| / W (equal to |V|
+  at rest ends); a velocity jump at a joint is an impulse of its own and not included.
+  Computed by Gauss-Legendre quadrature on the law's smooth pieces, fine enough for the
+  oscillation: exact to rounding, no simulation.
+* Periodic response at speed: the exact periodic solution of the ODE (periodic.py), jumps in
+  y and its derivatives included; an undamped train at fn = k x the cam frequency has none (it
+  resonates: the report says the output is unbounded).
 * VDI 2149 Blatt 1 allows the rigid-body analysis only when fn is at least RIGID_RATIO times
   the cam frequency.
 """
@@ -23,7 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Mapping, Optional
+from typing import Any, Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -34,6 +37,8 @@ from ..errors import InvalidParameter
 from ..motion.laws import MotionLaw
 from ..motion.program import MotionProgram
 from ..motion.segment import motion_task
+from .periodic import periodic_response, resonant_harmonic
+from .train import TrainConfig
 
 #: VDI 2149: the rigid model holds when the train's natural frequency is this many times the
 #: cam frequency or more.
@@ -43,57 +48,6 @@ GAUSS_NODES = 20
 PANELS_PER_CYCLE = 2
 #: End slopes f'(0), f'(1) closer than this are equal (sin(pi) is not quite 0).
 SLOPE_TOLERANCE = 1e-12
-#: Samples of the cam motion per revolution for the periodic response (a power of two).
-RESPONSE_SAMPLES = 2 ** 14
-#: Harmonics per block when the Fourier series is evaluated at arbitrary angles: e^(ik theta)
-#: is e^(i m theta) e^(i B j theta), k = B j + m, so only 2 sqrt(K) exponentials per angle.
-HARMONIC_BLOCK = 64
-
-
-@dataclass(frozen=True)
-class TrainConfig:
-    """The follower train's lowest natural frequency (Hz, cam side held) and damping ratio.
-
-    compensate: the cam is shaped so that the train's output is the designed motion (polydyne).
-    """
-
-    natural_frequency: float
-    damping_ratio: float
-    compensate: bool = False
-
-    @property
-    def omega_n(self) -> float:
-        """Return the natural angular frequency (rad/s)."""
-        return 2.0 * math.pi * self.natural_frequency
-
-
-def parse_train(values: Mapping[str, Any], inertia: float,
-                inertia_name: str) -> Optional[TrainConfig]:
-    """Return the train of checked flat values, None without a frequency or a stiffness.
-
-    inertia is the follower's mass (kg) or arm inertia (kg m^2) named inertia_name, needed to
-    turn dynamics.train_stiffness into a frequency: fn = sqrt(k / m) / (2 pi).
-    """
-    frequency = values['dynamics.train_natural_frequency']
-    stiffness = values['dynamics.train_stiffness']
-    if frequency and stiffness:
-        raise InvalidParameter('dynamics.train_stiffness', stiffness,
-                               'give dynamics.train_natural_frequency or '
-                               'dynamics.train_stiffness, not both')
-    if stiffness:
-        if not inertia:
-            raise InvalidParameter('dynamics.train_stiffness', stiffness,
-                                   f'needs {inertia_name} to give a natural frequency (or give '
-                                   'dynamics.train_natural_frequency instead)')
-        frequency = math.sqrt(stiffness / inertia) / (2.0 * math.pi)
-    compensate = values['dynamics.compensate']
-    if not frequency:
-        if compensate:
-            raise InvalidParameter('dynamics.compensate', compensate,
-                                   'needs the follower train: give '
-                                   'dynamics.train_natural_frequency or dynamics.train_stiffness')
-        return None
-    return TrainConfig(frequency, values['dynamics.train_damping_ratio'], compensate)
 
 
 def _panels(law: MotionLaw, count: int) -> FloatArray:
@@ -105,7 +59,10 @@ def _panels(law: MotionLaw, count: int) -> FloatArray:
 
 
 def residual_ratio(law: MotionLaw, r: npt.ArrayLike) -> FloatArray:
-    """Return R/h of a segment with this law at duration ratios r = T fn >= 0 (see above)."""
+    """Return R/a of a segment with this law at duration ratios r = T fn >= 0 (see above).
+
+    a is the law's amplitude: the stroke of a rest-to-rest segment, h - v beta under a ramp v.
+    """
     ratio = np.asarray(r, dtype=float)
     if ratio.size == 0:
         return ratio.copy()
@@ -133,12 +90,17 @@ def residual_ratio(law: MotionLaw, r: npt.ArrayLike) -> FloatArray:
 
 @dataclass(frozen=True)
 class SegmentVibration:
-    """Residual vibration after one moving segment: r = T fn, amplitude R (m or rad), R/h."""
+    """Residual vibration after one moving segment: r = T fn, amplitude R (m or rad), R/a.
+
+    law_amplitude a = |h - v beta| (m or rad) is what the ratio divides by: the stroke |h| of a
+    rest-to-rest segment, the stroke less the ramp's travel under a ramp v (span beta).
+    """
 
     index: int
     r: float
     residual_amplitude: float
     residual_ratio: float
+    law_amplitude: float
 
 
 def segment_vibrations(program: MotionProgram, omega: float,
@@ -155,61 +117,9 @@ def segment_vibrations(program: MotionProgram, omega: float,
             continue
         r = segment.span / omega * train.natural_frequency
         ratio = float(residual_ratio(segment.law, r))
-        found.append(SegmentVibration(index, r, ratio * abs(segment.amplitude), ratio))
+        found.append(SegmentVibration(index, r, ratio * abs(segment.amplitude), ratio,
+                                      abs(segment.amplitude)))
     return tuple(found)
-
-
-@dataclass(frozen=True, eq=False)
-class PeriodicResponse:
-    """The train's steady output over one revolution (SI, time derivatives at the cam speed).
-
-    angle are RESPONSE_SAMPLES cam angles from 0 (rad); input is the cam motion s there, output
-    x, output_velocity and output_acceleration the train's; `at(theta)` evaluates the output's
-    Fourier series anywhere.
-    """
-
-    omega: float
-    angle: FloatArray
-    input: FloatArray
-    output: FloatArray
-    output_velocity: FloatArray
-    output_acceleration: FloatArray
-    coefficients: npt.NDArray[np.complex128]  # of x, per harmonic k of the cam angle
-
-    def at(self, theta: npt.ArrayLike, derivative: int = 0) -> FloatArray:
-        """Return the output's derivative (0: x, 1: dx/dt, 2: d2x/dt2) at cam angles theta."""
-        angles = np.asarray(theta, dtype=float)
-        k = np.arange(self.coefficients.size)
-        factor = (1j * k * self.omega) ** derivative * self.coefficients
-        factor[1:] *= 2.0  # the negative harmonics: real signal
-        blocks = -(-factor.size // HARMONIC_BLOCK)
-        factor = np.resize(factor, blocks * HARMONIC_BLOCK)
-        factor[self.coefficients.size:] = 0.0
-        flat = angles.reshape(-1)
-        low = np.exp(1j * np.multiply.outer(flat, np.arange(HARMONIC_BLOCK)))
-        high = np.exp(1j * np.multiply.outer(flat, HARMONIC_BLOCK * np.arange(blocks)))
-        values = np.real(np.sum(high * (low @ factor.reshape(blocks, HARMONIC_BLOCK).T), axis=1))
-        return (values / self.angle.size).reshape(angles.shape)
-
-
-def periodic_response(program: MotionProgram, omega: float, train: TrainConfig,
-                      samples: int = RESPONSE_SAMPLES) -> PeriodicResponse:
-    """Return the steady periodic output of the train driven by the program at speed omega."""
-    angle = 2.0 * math.pi * np.arange(samples) / samples
-    s = program.evaluate(angle).s
-    spectrum = np.fft.rfft(s)
-    frequency = omega * np.arange(spectrum.size)  # rad/s of each harmonic
-    wn, zeta = train.omega_n, train.damping_ratio
-    response = wn * wn / (wn * wn - frequency ** 2 + 2j * zeta * wn * frequency)
-    x = response * spectrum
-    if samples % 2 == 0:
-        x[-1] = x[-1].real  # the Nyquist harmonic of a real signal
-    output, velocity, acceleration = (np.fft.irfft((1j * frequency) ** order * x, samples)
-                                      for order in range(3))
-    coefficients = x.copy()
-    if samples % 2 == 0:
-        coefficients[-1] *= 0.5  # at() doubles every harmonic above 0
-    return PeriodicResponse(omega, angle, s, output, velocity, acceleration, coefficients)
 
 
 @dataclass(frozen=True)
@@ -221,7 +131,12 @@ class VibrationReport:
     from the damped periodic response: the largest |x - s|, the largest |x''| against the rigid
     cam's largest |s''|, and with a dynamics model the least follower force Q with the output's
     acceleration (< 0: the follower leaves the cam; None without a model). Extremes are refined
-    on the exact Fourier series by extremes.refine_extrema, not read off the grid.
+    on the exact periodic solution by extremes.refine_extrema, not read off the grid.
+    velocity_jumps are the angles where the designed motion's velocity jumps: its acceleration
+    is an impulse there and peak_rigid_acceleration is inf (unbounded). resonance is k when the
+    train is undamped and fn is k times the cam frequency: no steady state, the output grows
+    without bound, so the deviation and the output's acceleration are inf (at nan) and the least
+    force -inf (at None).
     """
 
     natural_frequency_hz: float
@@ -237,11 +152,28 @@ class VibrationReport:
     elastic_force_min: Optional[float]
     elastic_force_min_at: Optional[float]
     compensated: bool  # the cam is not the designed motion but shaped for the train (polydyne)
+    velocity_jumps: tuple[float, ...] = ()
+    resonance: Optional[int] = None
 
     @property
     def leaves_cam(self) -> bool:
         """Return True when the output's acceleration makes the follower leave the cam."""
         return self.elastic_force_min is not None and self.elastic_force_min < 0.0
+
+    @property
+    def ok(self) -> bool:
+        """Return True when the output has a steady state and the follower stays on the cam."""
+        return self.resonance is None and not self.leaves_cam
+
+    def resonance_note(self) -> str:
+        """Say what a resonance of the undamped train means ('' without one)."""
+        if self.resonance is None:
+            return ''
+        return (f'the undamped follower train resonates: fn {self.natural_frequency_hz:.6g} Hz '
+                f'is {self.resonance} x the cam frequency, so harmonic {self.resonance} of the '
+                "cam's motion drives it at its natural frequency and the output's vibration "
+                'grows without bound (no steady state); give dynamics.train_damping_ratio > 0 '
+                'or move fn off the multiple')
 
 
 def vibration_report(program: MotionProgram, omega: float, train: TrainConfig,
@@ -254,6 +186,31 @@ def vibration_report(program: MotionProgram, omega: float, train: TrainConfig,
     force with the output's acceleration in place of the rigid one.
     """
     target = program if output is None else output
+    ratio = train.natural_frequency / (omega / (2.0 * math.pi))
+    jumps = tuple(jump.angle for jump in target.continuity_report() if jump.order == 1)
+    rigid = math.inf if jumps else max(
+        summary.peaks_at_speed(omega)[1] for summary in target.segment_summary())
+    resonance = resonant_harmonic(omega, train)
+    if resonance is None:
+        figures = _response_extremes(program, target, omega, train, model)
+    else:
+        figures = (math.inf, math.nan, math.inf, math.nan,
+                   *((None, None) if model is None else (-math.inf, None)))
+    deviation, deviation_at, acceleration, acceleration_at, force_min, force_min_at = figures
+    return VibrationReport(
+        natural_frequency_hz=train.natural_frequency, damping_ratio=train.damping_ratio,
+        frequency_ratio=ratio, rigid_ok=ratio >= RIGID_RATIO,
+        segments=segment_vibrations(program, omega, train),
+        max_output_deviation=deviation, max_output_deviation_at=deviation_at,
+        peak_output_acceleration=acceleration, peak_output_acceleration_at=acceleration_at,
+        peak_rigid_acceleration=rigid, elastic_force_min=force_min,
+        elastic_force_min_at=force_min_at, compensated=target is not program,
+        velocity_jumps=jumps, resonance=resonance)
+
+
+def _response_extremes(program: MotionProgram, target: MotionProgram, omega: float,
+                       train: TrainConfig, model: Any) -> tuple[Any, ...]:
+    """Return max |x - s|, max |x''|, the least force (None without a model), each with its at."""
     response = periodic_response(program, omega, train)
     designed = target.evaluate(response.angle)
 
@@ -272,14 +229,5 @@ def vibration_report(program: MotionProgram, omega: float, train: TrainConfig,
     (deviation, deviation_at), (acceleration, acceleration_at), *force = refine_extrema(
         measures, response.angle, np.array(grid), ('max', 'max', 'min')[:len(grid)],
         breaks=np.union1d(program.breaks, target.breaks))
-    force_min, force_min_at = force[0] if force else (None, None)
-    rigid = max(summary.peaks_at_speed(omega)[1] for summary in target.segment_summary())
-    ratio = train.natural_frequency / (omega / (2.0 * math.pi))
-    return VibrationReport(
-        natural_frequency_hz=train.natural_frequency, damping_ratio=train.damping_ratio,
-        frequency_ratio=ratio, rigid_ok=ratio >= RIGID_RATIO,
-        segments=segment_vibrations(program, omega, train),
-        max_output_deviation=deviation, max_output_deviation_at=deviation_at,
-        peak_output_acceleration=acceleration, peak_output_acceleration_at=acceleration_at,
-        peak_rigid_acceleration=rigid, elastic_force_min=force_min,
-        elastic_force_min_at=force_min_at, compensated=target is not program)
+    return (deviation, deviation_at, acceleration, acceleration_at,
+            *(force[0] if force else (None, None)))
