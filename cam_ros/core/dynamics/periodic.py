@@ -46,6 +46,7 @@ RESPONSE_BLOCK = 2 ** 14
 #: fastest mode over one stretch: the quadrature's error is then far below rounding.
 RESPONSE_NODES = 10
 STEP_PHASE = 0.5
+_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(RESPONSE_NODES)
 #: An undamped train whose fn is within this fraction of a whole multiple of the cam frequency
 #: resonates: there is no periodic solution (the vibration grows without bound).
 RESONANCE_TOLERANCE = 1e-9
@@ -109,30 +110,49 @@ def _stretch_count(omega: float, train: TrainConfig, samples: int) -> int:
     return max(samples, needed)
 
 
-def _knots(program: MotionProgram, count: int) -> tuple[FloatArray, FloatArray]:
-    """Return the stretch starts in [0, 2 pi), count equal steps and every break; the breaks."""
+def _knots(program: MotionProgram, count: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Return the stretch starts in [0, 2 pi), their spans (rad) and the breaks.
+
+    The starts are count equal steps and every break (a step closer to a break than
+    MERGE_FRACTION gives way to it); between two grid points the span is one step exactly.
+    """
     breaks = np.unique(np.mod(program.breaks, TWO_PI))  # a segment start at least
-    grid = TWO_PI * np.arange(count) / count
+    step = TWO_PI / count
+    grid = step * np.arange(count)
     position = np.searchsorted(breaks, grid)
     after = breaks[position % breaks.size] + TWO_PI * (position == breaks.size)
     before = breaks[position - 1] - TWO_PI * (position == 0)
-    apart = np.minimum(after - grid, grid - before) > MERGE_FRACTION * TWO_PI / count
-    return np.union1d(grid[apart], breaks), breaks
+    grid = grid[np.minimum(after - grid, grid - before) > MERGE_FRACTION * step]
+    knots = np.union1d(grid, breaks)
+    on_grid = np.isin(knots, grid)
+    span = np.diff(np.append(knots, TWO_PI))
+    span[on_grid & np.append(on_grid[1:], True)] = step  # one span: one kernel to compute
+    return knots, span, breaks
 
 
 def _forcing(program: MotionProgram, omega: float, train: TrainConfig, start: FloatArray,
-             span: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Return int_0^tau Phi(tau - u) e2 c du over stretches from angles start, span rad long."""
-    nodes, weights = np.polynomial.legendre.leggauss(RESPONSE_NODES)
-    fraction = 0.5 * (nodes + 1.0)
+             span: FloatArray, kernel: Optional[tuple[FloatArray, FloatArray]] = None
+             ) -> tuple[FloatArray, FloatArray]:
+    """Return int_0^tau Phi(tau - u) e2 c du over stretches from angles start, span rad long.
+
+    kernel: Phi(tau - u) e2 at the nodes of each stretch, (n, RESPONSE_NODES) twice, when known.
+    """
+    fraction = 0.5 * (_NODES + 1.0)
     angles = start[:, np.newaxis] + span[:, np.newaxis] * fraction
     motion = program.evaluate(angles)
     damping = 2.0 * train.damping_ratio * train.omega_n * omega
     c = omega * omega * motion.d2s + damping * motion.ds
     tau = span[:, np.newaxis] / omega
-    _, p12, _, p22 = transition(train, tau * (1.0 - fraction))
-    weighted = c * (0.5 * weights) * tau
+    p12, p22 = _kernel(train, omega, span) if kernel is None else kernel
+    weighted = c * (0.5 * _WEIGHTS) * tau
     return np.sum(p12 * weighted, axis=1), np.sum(p22 * weighted, axis=1)
+
+
+def _kernel(train: TrainConfig, omega: float,
+            span: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Return Phi(tau - u) e2 at the quadrature nodes u of stretches span rad long."""
+    _, p12, _, p22 = transition(train, np.multiply.outer(span / omega, 0.5 * (1.0 - _NODES)))
+    return p12, p22
 
 
 def _compose(maps: FloatArray) -> None:
@@ -185,15 +205,16 @@ class PeriodicResponse:
 
     def at(self, theta: npt.ArrayLike, derivative: int = 0) -> FloatArray:
         """Return the output's derivative (0: x, 1: dx/dt, 2: d2x/dt2) at cam angles theta."""
+        return self.outputs(theta)[derivative]
+
+    def outputs(self, theta: npt.ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Return x, dx/dt and d2x/dt2 at cam angles theta (m or rad, per s, per s^2)."""
         d0, d1 = self.deviation_at(theta)
         motion = self.program.evaluate(theta)
-        if derivative == 0:
-            return motion.s + d0
         velocity = self.omega * motion.ds + d1
-        if derivative == 1:
-            return velocity
         wn = self.train.omega_n
-        return -wn * wn * d0 - (2.0 * self.train.damping_ratio * wn) * velocity
+        return (motion.s + d0, velocity,
+                -wn * wn * d0 - (2.0 * self.train.damping_ratio * wn) * velocity)
 
 
 def periodic_response(program: MotionProgram, omega: float, train: TrainConfig,
@@ -209,9 +230,8 @@ def periodic_response(program: MotionProgram, omega: float, train: TrainConfig,
         raise InvalidParameter('dynamics.train_damping_ratio', train.damping_ratio,
                                f'an undamped train at fn = {harmonic} x the cam frequency '
                                'resonates: no periodic output (it grows without bound)')
-    angle, breaks = _knots(program, _stretch_count(omega, train, samples))
+    angle, span, breaks = _knots(program, _stretch_count(omega, train, samples))
     count = angle.size
-    span = np.diff(np.append(angle, TWO_PI))
     sides = program.evaluate(np.concatenate((breaks + SIDE_GAP, breaks - SIDE_GAP))).ds
     at_knots = program.evaluate(angle)
     ds = at_knots.ds.copy()
@@ -219,12 +239,15 @@ def periodic_response(program: MotionProgram, omega: float, train: TrainConfig,
     ds[where] = sides[:breaks.size]  # right-hand values at every break
     jumps = np.zeros(count)
     jumps[where] = omega * (sides[:breaks.size] - sides[breaks.size:])
+    spans, which = np.unique(span, return_inverse=True)  # a few: the step, those at breaks
+    kernel = _kernel(train, omega, spans)
     maps = np.empty((6, count))
+    maps[:4] = np.array(transition(train, spans / omega))[:, which]
     for first in range(0, count, RESPONSE_BLOCK):
         part = slice(first, first + RESPONSE_BLOCK)
-        forced = _forcing(program, omega, train, angle[part], span[part])
-        maps[:4, part] = transition(train, span[part] / omega)
-        maps[4:, part] = np.negative(forced)
+        mine = which[part]
+        maps[4:, part] = np.negative(_forcing(program, omega, train, angle[part], span[part],
+                                              (kernel[0][mine], kernel[1][mine])))
     maps[5] -= np.roll(jumps, -1)  # the jump where each stretch ends
     _compose(maps)
     (p11, p12, p21, p22), (q1, q2) = maps[:4, -1], maps[4:, -1]

@@ -216,8 +216,8 @@ def _response_extremes(program: MotionProgram, target: MotionProgram, omega: flo
 
     def measures(theta: FloatArray) -> FloatArray:
         """|x - s|, |x''| and (with a model) the follower force Q at cam angles."""
-        at, acceleration = target.evaluate(theta), response.at(theta, 2)
-        rows = [np.abs(response.at(theta) - at.s), np.abs(acceleration)]
+        at, (output, _, acceleration) = target.evaluate(theta), response.outputs(theta)
+        rows = [np.abs(output - at.s), np.abs(acceleration)]
         if model is not None:
             rows.append(model.follower_force(at.s, at.ds, acceleration / omega ** 2)[0])
         return np.array(rows)
