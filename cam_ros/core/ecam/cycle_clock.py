@@ -11,8 +11,10 @@ delay-locked loop, F. Adriaensen, "Using a DLL to filter time", 2005, as JACK's 
 It starts with the gains of a least-squares line through all samples so far (the expanding-memory
 alpha-beta filter: its time and period are that line's until about the hundredth sample) and
 narrows to its own once those are smaller, so it locks within about a hundred samples whatever the
-first interval says. It counts the samples' cycles: SpeedEstimator fits positions against them
-(times cycle x period) or against the stamps, whichever the positions follow better.
+first interval says, for jitter within ±10 % of a cycle (at ±20 %, 13 seeds of 200 locked on a
+wrong period from an unlucky first interval until the RESTART rule caught it, within 400 samples;
+the positions then fit the stamps better). It counts the samples' cycles: SpeedEstimator fits
+positions against them (times cycle x period) or against the stamps, whichever they follow better.
 """
 from __future__ import annotations
 
