@@ -47,7 +47,6 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
     from cam_ros.recording import open_recording, parameter_changes, replay as replay_recording
     from cam_ros.recording.engage_replay import EngageCall, engage_calls, engage_topics
     from cam_ros.recording.parameter_replay import at_master_messages, parameter_events
-    from cam_ros.recording.parameters import PARAMETER_EVENTS_TOPIC
     from cam_ros.recording.replay import default_topics
     from cam_ros.recording.schedule import Schedule
 
@@ -61,15 +60,12 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
     calling = engage_topics(recording)
     if topics is None:
         published = default_topics(recording, outputs)
-        if apply_parameters:  # the node says its own changes
-            published = [name for name in published if name != PARAMETER_EVENTS_TOPIC]
     else:
         published = [name for name in topics if name not in calling]
         calling = [name for name in calling if name in topics]
     calls = engage_calls(recording, calling)
     events = parameter_events(parameter_changes(recording))
-    _say_plan(recording, published, calls, len(events), topics is None and not outputs,
-              apply_parameters)
+    _say_plan(recording, published, calls, len(events), topics is not None, apply_parameters)
     total = sum(recording.topics[name].count for name in published if name in recording.topics)
     shown = 0
 
@@ -108,13 +104,18 @@ def replay(path: str, rate: float = 1.0, topics: Sequence[str] | None = None,
 
 
 def _say_plan(recording: Recording, published: Sequence[str], calls: Sequence[EngageCall],
-              changes: int, inputs_only: bool, apply_parameters: bool) -> None:
-    """Say on stderr what the replay publishes, calls and leaves out (nothing when it is all)."""
+              changes: int, chosen: bool, apply_parameters: bool) -> None:
+    """
+    Say on stderr what the replay publishes, calls and leaves out (nothing when it is all).
+
+    chosen: the topics were named (--topics), so what is left out goes without saying.
+    """
+    from cam_ros.recording.engage_replay import engage_topics
     from cam_ros.recording.mcap_file import OUTPUTS_RECORD
 
-    left = [name for name in sorted(recording.outputs or ())
-            if inputs_only and name in recording.topics and name not in published
-            and recording.topics[name].count]
+    called = engage_topics(recording)
+    left = [name for name, info in recording.topics.items()
+            if info.count and not chosen and name not in published and name not in called]
     lines = []
     if calls:
         services = ', '.join(sorted({call.service for call in calls}))
@@ -122,11 +123,9 @@ def _say_plan(recording: Recording, published: Sequence[str], calls: Sequence[En
                      f'call{"s" * (len(calls) != 1)}), each before the master message the '
                      'recorded node took it at')
     if left:
-        node = recording.metadata[OUTPUTS_RECORD].get('node', 'the recording node')
-        lines.append(f'leaving out the outputs of {node} (--outputs publishes them): '
-                     + ', '.join(left))
-    elif inputs_only and recording.outputs is None:
-        lines.append('the recording does not name its node\'s outputs: publishing every topic')
+        node = recording.metadata.get(OUTPUTS_RECORD, {}).get('node', 'the recording node')
+        lines.append(f'leaving out {", ".join(left)} (the outputs of {node} and its parameter '
+                     'events: --outputs publishes them)')
     if changes and not apply_parameters:
         lines.append(f'not setting the recorded parameter changes ({changes} '
                      f'set{"s" * (changes != 1)}; --apply-parameters makes them)')

@@ -13,6 +13,7 @@ from rclpy.qos import QoSProfile
 
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.recording.engage_replay import engage_topics
+from cam_ros.recording.parameters import PARAMETER_EVENTS_TOPIC
 from cam_ros.recording.qos import DEFAULT_DEPTH, qos_from_dict
 from cam_ros.recording.reader import open_recording, RecordedMessage, Recording
 from cam_ros.recording.schema import import_type
@@ -107,13 +108,13 @@ def default_topics(recording: Recording, outputs: bool = False) -> list[str]:
     Return the topics a replay publishes unless told which: the recording node's inputs.
 
     Every recorded topic but those the recording node published itself (Recording.outputs; a
-    recording that does not say has none left out) and its ~/engage calls (EngageRequest topics,
-    made again as calls, never published); with `outputs`, the node's outputs too.
+    recording that does not say has none left out), /parameter_events (--apply-parameters makes
+    the changes) and the ~/engage calls (EngageRequest topics, made again as calls, never
+    published); with `outputs`, all but the calls.
     """
-    own = recording.outputs or frozenset()
     calls = set(engage_topics(recording))
-    return [name for name in recording.topics
-            if name not in calls and (outputs or name not in own)]
+    left = set() if outputs else {*(recording.outputs or ()), PARAMETER_EVENTS_TOPIC}
+    return [name for name in recording.topics if name not in calls and name not in left]
 
 
 def replay(recording: Union[Recording, str, os.PathLike], node: Node, *,

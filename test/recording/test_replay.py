@@ -61,9 +61,14 @@ def test_replay_as_fast_as_possible(reference, graph_nodes):
     start = time.monotonic()
     count = replay(recording, graph_nodes('replayer'), rate=None, on_message=seen.append)
     elapsed = time.monotonic() - start
-    assert count == len(seen) == recording.message_count
-    assert [tuple(m) for m in seen] == [tuple(m) for m in recording.messages(raw=True)]
+    # By default all but the parameter events (the recorder's node published none of them).
+    inputs = [STREAM_TOPIC, LATCHED_TOPIC]
+    assert count == len(seen) == STREAM_COUNT + 1
+    assert [tuple(m) for m in seen] == [tuple(m) for m in recording.messages(inputs, raw=True)]
     assert elapsed < recording.duration_ns / 1e9 / 3
+    everything = []
+    assert replay(recording, graph_nodes('replayer_all'), rate=None, outputs=True,
+                  on_message=everything.append) == recording.message_count
 
 
 def test_stop_event_ends_replay_early(reference, graph_nodes):
@@ -82,7 +87,7 @@ def test_stop_event_ends_replay_early(reference, graph_nodes):
 def test_loop_repeats_until_stopped(reference, graph_nodes):
     stop = threading.Event()
     seen = []
-    total = open_recording(reference.path).message_count
+    total = STREAM_COUNT + 1  # the parameter event is not replayed
 
     def on_message(message):
         seen.append(message.log_time_ns)

@@ -1,0 +1,176 @@
+"""A run engaged through ~/engage replays: the calls are recorded and made again in place.
+
+A real node, started disengaged with slave.state_topic, is recorded while the test engages it
+(ramp from the axis's reported position) and disengages it on a 250 Hz master. `cam_ros replay
+FILE` (no options) publishes the master and the slave's state, makes both ~/engage calls before
+the master message after the one the recorded node had followed, and publishes none of the
+node's outputs: a stand-in for the node hears the calls at those stamps and nothing on the
+outputs (with --outputs, the recorded outputs). Replayed into a fresh node the run gives the
+recorded commands bit for bit, by master stamp.
+"""
+from __future__ import annotations
+
+import math
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+from conftest import CONFIG_DIR
+from ecam_support import constant_speed, engage, MasterLink, stamp_of, WAIT_S
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
+from std_srvs.srv import SetBool
+from test_node import Inbox
+
+from cam_ros_interfaces.msg import EngageRequest
+from cam_ros.recording import open_recording
+from cam_ros.recording.schema import import_type
+
+DEFAULT = CONFIG_DIR / 'default.yaml'
+SLAVE_TOPIC = '/axis/joint_states'
+ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=30.0', '-p',
+        'master.engage_on_start:=false', '-p', f'slave.state_topic:={SLAVE_TOPIC}')
+AXIS_AT = 0.0123  # m: where the axis reports the follower
+AXIS_LEAD_S = 2.0
+START_NS = 9_000 * 10 ** 9
+DT = 0.004  # 250 Hz
+SPEED = 2 * math.pi  # 60 rpm: the 30 deg ramp takes some 21 messages
+COUNT = 500
+ENGAGE_AT, DISENGAGE_AT = 0.5, 1.4  # s into the stream
+ANY = QoSProfile(depth=10000, reliability=ReliabilityPolicy.BEST_EFFORT)  # matches every offer
+REQUESTS = QoSProfile(depth=10)
+
+
+def report_axis(node, stop: threading.Event) -> threading.Thread:
+    """Publish the axis's position every 50 ms until stop is set."""
+    publisher = node.create_publisher(JointState, SLAVE_TOPIC, QoSProfile(depth=10))
+
+    def run() -> None:
+        while not stop.wait(0.05):
+            publisher.publish(JointState(name=['follower'], position=[AXIS_AT]))
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    return thread
+
+
+def replay(path, *options: str) -> subprocess.CompletedProcess:
+    """Run `cam_ros replay FILE options` and check it ends well."""
+    result = subprocess.run([sys.executable, '-m', 'cam_ros.cli', 'replay', str(path), '--wait',
+                             str(WAIT_S), *options], capture_output=True, text=True, timeout=90)
+    assert result.returncode == 0, result.stderr
+    return result
+
+
+class StandIn:
+    """Serves /cam/engage as the recorded node answered and listens to the recording's topics."""
+
+    def __init__(self, executor, recording):
+        self.node = executor.node(f'stand_in_{time.monotonic_ns()}')
+        self.heard = {name: Inbox(self.node, import_type(info.type), name, ANY)
+                      for name, info in recording.topics.items()
+                      if name != '/cam/engage_requests'}
+        self.calls: list[tuple[bool, list[int]]] = []  # request, master stamps heard by then
+        self.service = self.node.create_service(SetBool, '/cam/engage', self._answer)
+
+    def _answer(self, request, response):
+        with self.heard['/cam/master'].arrived:
+            stamps = [stamp_of(m) for m in self.heard['/cam/master'].messages]
+        self.calls.append((request.data, stamps))
+        response.success = True
+        return response
+
+    def counts(self) -> dict[str, int]:
+        """Return how many messages each topic brought so far."""
+        return {name: len(inbox.messages) for name, inbox in self.heard.items()}
+
+
+def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
+        start_cam_node, executor, tmp_path):
+    folder = tmp_path / 'runs'
+    first, _ = start_cam_node(DEFAULT, *ECAM, '-p', 'recording.enabled:=true',
+                              '-p', f'recording.directory:={folder}')
+    link = MasterLink(executor)
+    axis_stop = threading.Event()
+    axis = report_axis(link.node, axis_stop)
+    link.connect(first)  # answered once the node knows where the axis is: it holds there
+    # The axis keeps reporting before the master runs, so a fresh node still matching the
+    # replay's best-effort publisher (see README, Command line) hears it in time too.
+    time.sleep(AXIS_LEAD_S)
+    axis_stop.set()
+    axis.join()
+    q, stream = constant_speed(START_NS, 0.5, SPEED, COUNT, DT)
+    thread = link.stream(stream, DT)
+    time.sleep(ENGAGE_AT)
+    assert engage(executor, True).success
+    time.sleep(DISENGAGE_AT - ENGAGE_AT)
+    assert engage(executor, False).success
+    thread.join()
+    answers = link.answers(stream)
+    assert first.stop(signal.SIGINT) == 0, first.log()
+
+    path = next(folder.glob('*.mcap'))
+    recording = open_recording(path)
+    requests = [m.message for m in recording.messages(['/cam/engage_requests'])]
+    assert [(r.engage, r.success, r.master_followed) for r in requests] == [
+        (True, True, True), (False, True, True)]
+    engaged_after, disengaged_after = (stamp_of(r) for r in requests)
+    stamps = [stamp_of(m) for m in stream]
+    assert stamps[0] < engaged_after < disengaged_after < stamps[-1]
+    assert recording.topics[SLAVE_TOPIC].count > 0
+    assert {'/cam/commands', '/cam/joint_states', '/cam/switches', '/cam/state',
+            '/cam/switch_state', '/cam/engage_requests', '/diagnostics'} <= recording.outputs
+    assert not {'/cam/master', SLAVE_TOPIC, '/parameter_events'} & recording.outputs
+
+    # The run: held at the axis's position, a ramp onto the cam from the message after the
+    # engage call (where it starts at rest), held where it was after the disengage call.
+    position = np.array([m.position[1] for m in answers])
+    engaged = stamps.index(engaged_after) + 1
+    disengaged = stamps.index(disengaged_after) + 1
+    assert np.all(position[:engaged + 1] == AXIS_AT)
+    assert np.all(np.diff(position[engaged:engaged + 6]) != 0.0)
+    assert np.all(position[disengaged:] == position[disengaged - 1])
+
+    # Plain replay: inputs and calls only, said on stderr; nothing on the node's outputs.
+    stand_in = StandIn(executor, recording)
+    result = replay(path)
+    assert 'calling /cam/engage as recorded (2 calls)' in result.stderr
+    [left] = [line for line in result.stderr.splitlines() if 'leaving out' in line]
+    assert '/cam/commands' in left and '/cam/joint_states' in left and '/cam/master' not in left
+    assert left.endswith('(the outputs of /cam and its parameter events: --outputs publishes '
+                         'them)')
+    recorded_inputs = recording.topics['/cam/master'].count + recording.topics[SLAVE_TOPIC].count
+    assert result.stdout.startswith(f'published {recorded_inputs} messages')
+    assert [request for request, _ in stand_in.calls] == [True, False]
+    for (_, heard), after in zip(stand_in.calls, (engaged_after, disengaged_after)):
+        assert after in heard and max(heard) == after  # after that message, before the next
+    time.sleep(0.5)
+    counts = stand_in.counts()
+    assert {name: counts[name] for name in recording.outputs if name in counts} == {
+        name: 0 for name in recording.outputs if name in counts}
+    assert counts[SLAVE_TOPIC] > 0
+    replay(path, '--outputs')
+    for name in ('/cam/commands', '/cam/joint_states', '/cam/switch_state'):
+        stand_in.heard[name].wait(recording.topics[name].count, WAIT_S)
+
+    # Replayed into a fresh node: the recorded commands, by master stamp.
+    stand_in.node.destroy_service(stand_in.service)  # the fresh node serves /cam/engage
+    second, _ = start_cam_node(DEFAULT, *ECAM)
+    fresh = MasterLink(executor)
+    calls = Inbox(fresh.node, EngageRequest, '/cam/engage_requests', REQUESTS)
+    replay(path)
+    recorded = {stamp_of(m): m.position[1] for m in answers}
+    deadline = time.monotonic() + WAIT_S
+    while len(fresh.messages('joints')) < len(recorded) - 3 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.2)
+    assert second.stop(signal.SIGINT) == 0, second.log()
+    replayed = {stamp_of(m): m.position[1] for m in fresh.messages('joints')}
+    assert len(replayed.keys() & recorded.keys()) >= len(recorded) - 3
+    assert {stamp: value for stamp, value in replayed.items() if stamp in recorded} == {
+        stamp: recorded[stamp] for stamp in replayed if stamp in recorded}
+    assert [(m.engage, stamp_of(m)) for m in calls.messages] == [
+        (True, engaged_after), (False, disengaged_after)]
