@@ -88,4 +88,4 @@ def vibration_figure(config: Path, design: CamDesign, repeats: int) -> Figure:
         times['elastic'] * 1e-6, 'ms', 'design_report, rigid train', times['rigid'] * 1e-6,
         VIBRATION_TARGET,
         'The default design with a 6 Hz train: residual vibration per segment (quadrature), '
-        'the periodic response (FFT of 16,384 samples) and its refined extremes.')
+        'the exact periodic response (8,192 stretches) and its refined extremes.')

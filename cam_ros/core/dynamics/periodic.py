@@ -35,8 +35,9 @@ from ..errors import InvalidParameter
 from ..motion.program import MotionProgram
 from .train import TrainConfig
 
-#: Fewest stretches per revolution (a power of two): the grid the report's extremes start from.
-RESPONSE_SAMPLES = 2 ** 14
+#: Fewest stretches per revolution (a power of two above the design checks' 7200 samples): the
+#: grid the report's extremes start from.
+RESPONSE_SAMPLES = 2 ** 13
 #: Most stretches per revolution: a train stiffer than this allows (fn some 80,000 times the
 #: cam frequency) is refused rather than integrated coarsely.
 MAX_RESPONSE_SAMPLES = 2 ** 20
@@ -44,7 +45,7 @@ MAX_RESPONSE_SAMPLES = 2 ** 20
 RESPONSE_BLOCK = 2 ** 14
 #: Gauss-Legendre nodes per stretch, and the largest phase |lambda| tau (rad) of the train's
 #: fastest mode over one stretch: the quadrature's error is then far below rounding.
-RESPONSE_NODES = 10
+RESPONSE_NODES = 8
 STEP_PHASE = 0.5
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(RESPONSE_NODES)
 #: An undamped train whose fn is within this fraction of a whole multiple of the cam frequency
