@@ -203,6 +203,18 @@ def test_a_multi_turn_master_restarting_from_zero_is_a_new_origin_not_eleven_tur
 def test_a_jump_is_a_new_origin_beyond_twice_the_plausible_speed(bound, nominal, jump,
                                                                  is_origin):
     tracker = MasterTracker(SECOND, bound=bound, nominal=nominal)
-    tracker.accept(0, 20.0, 0.0, 0)  # multi-turn, at rest
-    state = tracker.accept(1_000_000, 20.0 + jump, None, 1_000_000)
+    run(tracker, [0, 1_000_000, 2_000_000], [20.0] * 3)  # multi-turn, at rest: speed known
+    state = tracker.accept(3_000_000, 20.0 + jump, None, 3_000_000)
     assert state.origin is is_origin and tracker.jumps == int(is_origin)
+
+
+def test_a_master_five_times_faster_than_cam_speed_is_not_taken_for_jumps_after_a_loss():
+    # The speed is unknown for the first samples after a loss: they are not judged by it.
+    tracker = MasterTracker(SECOND // 2, nominal=2.0)
+    stamps = [k * 1_000_000 for k in range(1, 200)]
+    run(tracker, stamps, [100.0 + 10.0 * t * 1e-9 for t in stamps])
+    tracker.check(10 * SECOND)
+    later = [10 * SECOND + stamp for stamp in stamps]
+    states = run(tracker, later, [100.0 + 10.0 * t * 1e-9 for t in later])
+    assert tracker.jumps == 0 and not any(state.origin for state in states)
+    assert states[-1].omega == pytest.approx(10.0)

@@ -31,6 +31,9 @@ class SlavePath(Protocol):
     def derivatives(self, master: npt.ArrayLike) -> MasterDerivatives:
         """Return the path and its derivatives at master positions (rad)."""
 
+    def breaks(self, low: float, high: float) -> np.ndarray:
+        """Return the master positions in [low, high] where a derivative may jump."""
+
 
 #: b(u) = 10 u^3 - 15 u^4 + 6 u^5 is the 3-4-5 motion law.
 _SMOOTHSTEP = Polynomial345()
@@ -55,6 +58,10 @@ class Held:
         zero = 0.0 if isinstance(master, float) else np.zeros_like(master, dtype=float)
         return MasterDerivatives(zero + self.position, zero, zero, zero)
 
+    def breaks(self, low: float, high: float) -> np.ndarray:
+        """Return no breaks: a held slave is smooth."""
+        return np.empty(0)
+
 
 @dataclass(frozen=True, eq=False)
 class Blend:
@@ -64,6 +71,12 @@ class Blend:
     end: SlavePath
     q0: float
     distance: float
+
+    def breaks(self, low: float, high: float) -> np.ndarray:
+        """Return both paths' breaks and the blend's own ends in [low, high]."""
+        ends = np.array([self.q0 - self.distance, self.q0, self.q0 + self.distance])
+        return np.concatenate([self.start.breaks(low, high), self.end.breaks(low, high),
+                               ends[(ends >= low) & (ends <= high)]])
 
     def done(self, master: float) -> bool:
         """Say whether the master has travelled the whole distance from q0."""

@@ -138,9 +138,13 @@ class Follower:
             self.phase, self.reason, self._stop = HOLDING, 'master lost', None
             self._pending = self.wanted
 
-    def change(self, cam: ElectronicCam, config: EngageConfig) -> str:
-        """Take a new design and start modes; return how the cam changes."""
+    def change(self, cam: ElectronicCam, config: EngageConfig,
+               limits: Optional[SlaveLimits] = None) -> str:
+        """Take a new design, start modes and limits; return how the cam changes."""
         old, self.config = self.cam, config
+        if limits is not None and limits != self.limits:
+            self.limits = limits
+            self._peaks = (old, CamPeaks.of(old) if limits.limited else None)
         self.handover = None
         if self.phase not in RUNNING or self._last is None:
             self._set_cam(cam)

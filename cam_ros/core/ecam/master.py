@@ -28,7 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..arrays import Values
-from ..cam_angles import cam_angle, cam_angles
+from ..cam_angles import cam_angle, cam_angles, TWO_PI
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..motion.program import MotionProgram
@@ -116,6 +116,15 @@ class ElectronicCam:
         k, m = mapping.slave_scaling, mapping.master_scaling
         return MasterDerivatives(k * s + mapping.slave_offset, k * ds / m, k * d2s / m ** 2,
                                  k * d3s / m ** 3)
+
+    def breaks(self, low: float, high: float) -> np.ndarray:
+        """Return the master positions in [low, high] where the cam or a derivative may jump."""
+        mapping, angles = self.mapping, np.asarray(self.program.breaks)
+        first = math.floor((mapping.turns(low) - angles.max()) / TWO_PI)
+        last = math.ceil((mapping.turns(high) - angles.min()) / TWO_PI)
+        turns = np.arange(first, last + 1)[:, np.newaxis] * TWO_PI
+        q = (mapping.master_offset + mapping.master_scaling * (angles + turns)).reshape(-1)
+        return q[(q >= low) & (q <= high)]
 
     def setpoints(self, master: npt.ArrayLike, omega: npt.ArrayLike = 0.0,
                   alpha: npt.ArrayLike = 0.0) -> Setpoints:

@@ -20,7 +20,8 @@ sample's position, then each sample's travel added. The travel since the previou
 
 A travel that no plausible motion explains, more than JUMP_FACTOR times what master.max_speed
 (without it: the larger of the last speed and the master speed at cam_speed) allows over the
-elapsed time, is a new master origin (a restart from 0, a re-homing): the sample says so
+elapsed time (once the speed is known again after a loss or an origin: KNOWN_SPEED samples),
+is a new master origin (a restart from 0, a re-homing): the sample says so
 (origin), the estimates start afresh and the tracker counts it; the follower holds and engages
 again from where the slave is, never by unwinding the turns it made.
 """
@@ -38,8 +39,10 @@ WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
 #: Why a master message was dropped (the diagnostics count each).
 NO_JOINT, NOT_FINITE = 'no master joint', 'not finite'
 LENGTHS, BACKWARDS = 'mismatched array lengths', 'stamp not after the previous'
-#: A travel over this many times the plausible speed times the elapsed time is a new origin.
-JUMP_FACTOR = 2.0
+#: A travel over this many times the plausible speed times the elapsed time is a new origin,
+#: judged once the estimates have this many samples (the first after a loss or an origin is
+#: taken as it comes: the speed it would be judged by is not known yet).
+JUMP_FACTOR, KNOWN_SPEED = 2.0, 3
 
 
 class BadMaster(Exception):
@@ -110,9 +113,11 @@ class MasterTracker:
         self.dropped: Counter[str] = Counter()
         self.accepted = 0
         self.jumps = 0  # new origins
+        self.jump, self.jump_time = 0.0, 0.0  # the last new origin's travel (rad) and time (s)
         self.overspeed = False
         self.multi_turn = False
         self.last: MasterState | None = None
+        self._run = 0  # samples since the estimates started afresh
         self._received_ns = 0
 
     def accept(self, stamp_ns: int, position: float, velocity: float | None,
@@ -127,15 +132,18 @@ class MasterTracker:
         else:
             elapsed = (stamp_ns - last.stamp_ns) * 1e-9
             travel = self._travel(last, position, elapsed)
-            origin = abs(travel) > JUMP_FACTOR * self.plausible_speed() * elapsed
+            origin = self._run >= KNOWN_SPEED and \
+                abs(travel) > JUMP_FACTOR * self.plausible_speed() * elapsed
             fresh = origin or self.status == LOST
             if fresh:
                 self.speed.reset()
-            self.jumps += origin
+                self._run = 0
+            if origin:
+                self.jumps, self.jump, self.jump_time = self.jumps + 1, travel, elapsed
             state = estimate(None if fresh else last, self.speed, stamp_ns, position, velocity,
                              last.track + travel)._replace(origin=origin)
         self.last, self._received_ns, self.status = state, received_ns, OK
-        self.accepted += 1
+        self.accepted, self._run = self.accepted + 1, self._run + 1
         self.overspeed = abs(state.omega) > self.max_speed
         return state
 

@@ -13,9 +13,9 @@ at constant master speed and on the safe side otherwise).
 A blend (engage.Blend) from path A to path B over master travel D has v = Y' omega with
 Y' = (1 - b) A' + b B' + b' (B - A) / D: the longer the blend, the nearer its peaks come to those
 of A and B. plan_blend finds the shortest D, at least the engage distance, at which the blend's
-refined peaks over its whole travel stay within the limits and it never moves against the
-direction, at the master speed it is planned for (the larger of the present one and the speed
-at cam_speed): a faster master scales a blend's velocity as it scales the cam's own. A rotary
+refined peaks over its whole travel stay within the limits (PLAN_MARGIN below each) and it never
+moves against the direction, at constant master speed, the larger of the present one and the
+speed at cam_speed: a faster master scales a blend's velocity as it scales the cam's own. A rotary
 slave (length_unit deg) joins the cam at a whole number of turns from its own position: the
 nearest, or in the allowed direction when the nearest cannot be reached without turning back.
 """
@@ -31,15 +31,16 @@ from ..cam_angles import TWO_PI
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..extremes import refine_extrema
-from .engage import Blend, Held
+from .engage import Blend, SlavePath
 from .master import ElectronicCam
 
-Path = Union[ElectronicCam, Held, Blend]
 #: Grid of a peak search: samples per rad of cam angle travelled (0.1 deg), and the fewest.
 SAMPLES_PER_RAD, FEWEST_SAMPLES = 180.0 / math.pi / 0.1, 512
 #: A blend's travel grows by this factor until it is within the limits, up to LONGEST_CYCLES
 #: master cycles, then is bisected BISECTIONS times between the last two travels.
 GROWTH, LONGEST_CYCLES, BISECTIONS = 1.5, 64.0, 6
+#: Blends are planned this fraction below each limit: more than a refined peak's error.
+PLAN_MARGIN = 1e-6
 #: Velocity (m/s or rad/s) against slave.direction that counts as none (round-off in a dwell).
 BACKWARD_TOLERANCE = 1e-9
 DIRECTIONS = {'any': 0, 'positive': 1, 'negative': -1}
@@ -125,7 +126,7 @@ class CamPeaks:
         low = cam.mapping.master_offset
         high = low + TWO_PI * cam.mapping.master_scaling
         (least, _), (most, _), (bend, _) = _refined(
-            lambda q: _slopes(cam, q), low, high, ('min', 'max', 'max'), _breaks(cam, low, high),
+            lambda q: _slopes(cam, q), low, high, ('min', 'max', 'max'), cam.breaks(low, high),
             cam)
         return cls((least, most), bend)
 
@@ -143,32 +144,13 @@ def _slopes(cam: ElectronicCam, q: np.ndarray) -> np.ndarray:
     return np.array([d.dy, d.dy, np.abs(d.d2y)])
 
 
-def _commands(path: Path, q: np.ndarray, omega: float, alpha: float,
+def _commands(path: SlavePath, q: np.ndarray, omega: float, alpha: float,
               direction: int) -> np.ndarray:
     """Return rows |v|, |a| and the velocity against the direction at master positions q."""
     d = path.derivatives(q)
     velocity = d.dy * omega
     return np.array([np.abs(velocity), np.abs(d.d2y * omega * omega + d.dy * alpha),
                      -direction * velocity])
-
-
-def _breaks(path: Path, low: float, high: float) -> np.ndarray:
-    """Return the master positions in [low, high] where the path or a derivative may jump."""
-    if isinstance(path, Held):
-        return np.empty(0)
-    if isinstance(path, Blend):
-        ends = np.array([path.q0 - path.distance, path.q0, path.q0 + path.distance])
-        return np.concatenate([_breaks(path.start, low, high), _breaks(path.end, low, high),
-                               ends[(ends >= low) & (ends <= high)]])
-    mapping = path.mapping
-    angles = np.asarray(path.program.breaks)
-    first = math.floor(((low - mapping.master_offset) / mapping.master_scaling
-                        - angles.max()) / TWO_PI)
-    last = math.ceil(((high - mapping.master_offset) / mapping.master_scaling
-                      - angles.min()) / TWO_PI)
-    turns = np.arange(first, last + 1)[:, np.newaxis] * TWO_PI
-    q = (mapping.master_offset + mapping.master_scaling * (angles + turns)).reshape(-1)
-    return q[(q >= low) & (q <= high)]
 
 
 def _refined(func, low: float, high: float, kinds: tuple[str, ...], breaks: np.ndarray,
@@ -180,11 +162,11 @@ def _refined(func, low: float, high: float, kinds: tuple[str, ...], breaks: np.n
     return refine_extrema(func, q, func(q), kinds, breaks=breaks, period=None)
 
 
-def path_peaks(path: Path, low: float, high: float, omega: float, alpha: float,
+def path_peaks(path: SlavePath, low: float, high: float, omega: float, alpha: float,
                direction: int, cam: ElectronicCam) -> Peaks:
     """Return the refined peaks of a path's commands over master positions [low, high]."""
     found = _refined(lambda q: _commands(path, q, omega, alpha, direction), low, high,
-                     ('max', 'max', 'max'), _breaks(path, low, high), cam)
+                     ('max', 'max', 'max'), path.breaks(low, high), cam)
     return Peaks(*(value for value, _ in found))
 
 
@@ -203,7 +185,7 @@ def _blend_peaks(blend: Blend, omega: float, alpha: float, direction: int,
     return path_peaks(blend, low, high, omega, alpha, direction, cam)
 
 
-def plan_blend(start: Path, end: ElectronicCam, q0: float, omega: float, alpha: float,
+def plan_blend(start: SlavePath, end: ElectronicCam, q0: float, omega: float, alpha: float,
                least: float, limits: SlaveLimits, unit: AxisUnit,
                cam: Peaks) -> Union[Plan, str]:
     """
@@ -218,6 +200,8 @@ def plan_blend(start: Path, end: ElectronicCam, q0: float, omega: float, alpha: 
     peaks = _blend_peaks(Blend(start, end, q0, distance), omega, alpha, limits.direction, end)
     if not limits.limited:
         return Plan(Blend(start, end, q0, distance), peaks, cam)
+    limits = replace(limits, max_velocity=limits.max_velocity * (1.0 - PLAN_MARGIN),
+                     max_acceleration=limits.max_acceleration * (1.0 - PLAN_MARGIN))
     longest = LONGEST_CYCLES * TWO_PI * end.mapping.master_scaling
     shorter: Optional[float] = None
     while peaks.excess(limits, unit):
