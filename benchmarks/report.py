@@ -8,7 +8,7 @@ import os
 import platform
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
 
 import numpy as np
 
@@ -82,21 +82,21 @@ def number(value: float) -> str:
     return f'{value:.3g}'
 
 
-def markdown_table(figures: list[Figure]) -> str:
-    """Return the figures as a markdown table, their notes numbered below it."""
+def markdown_table(figures: Iterable[dict[str, Any]]) -> str:
+    """Return figures (as_json mappings) as a markdown table, their notes numbered below it."""
     lines = ['| Figure | Measured | Reference (same run) | Ratio | Target | Met |',
              '|---|---|---|---|---|---|']
     notes: list[str] = []
     for figure in figures:
         mark = ''
-        if figure.note:
-            notes.append(figure.note)
+        if figure['note']:
+            notes.append(figure['note'])
             mark = f' [{len(notes)}]'
-        target = '' if figure.target is None else figure.target.text(figure.unit)
-        met = {None: '', True: 'yes', False: '**no**'}[figure.met]
-        lines.append(f'| {figure.name}{mark} | {number(figure.value)} {figure.unit} | '
-                     f'{figure.reference}: {number(figure.reference_value)} {figure.unit} | '
-                     f'{figure.ratio:.3g} | {target} | {met} |')
+        met = {None: '', True: 'yes', False: '**no**'}[figure['met']]
+        unit = figure['unit']
+        lines.append(f"| {figure['name']}{mark} | {number(figure['value'])} {unit} | "
+                     f"{figure['reference']}: {number(figure['reference_value'])} {unit} | "
+                     f"{figure['ratio']:.3g} | {figure['target'] or ''} | {met} |")
     lines.append('')
     lines.extend(f'[{index}] {note}' for index, note in enumerate(notes, start=1))
     return '\n'.join(lines) + '\n'
@@ -120,7 +120,7 @@ def machine() -> dict[str, Any]:
 def write_results(figures: list[Figure], header: dict[str, Any], json_path: Path,
                   markdown_path: Path) -> str:
     """Write the figures to JSON and the markdown table to its file; return the table."""
-    table = markdown_table(figures)
+    table = markdown_table(figure.as_json() for figure in figures)
     results = {**header, 'figures': {figure.key: figure.as_json() for figure in figures}}
     json_path.write_text(json.dumps(results, indent=2, allow_nan=False) + '\n')
     markdown_path.write_text(table)

@@ -16,32 +16,12 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
 
-from benchmarks.report import number  # noqa: E402 - the path above makes it importable
+from benchmarks.report import markdown_table  # noqa: E402 - the path above makes it importable
 
 BEGIN = '<!-- generated from {source} by tools/docs_tables.py: edit that file, not this table -->'
 END = '<!-- end of generated table -->'
 #: page -> the measurement file its generated table comes from
 TABLES = {'docs/benchmarks.md': 'benchmarks/results.json'}
-
-
-def results_table(results: dict) -> str:
-    """Return the figures of a results.json as `make bench` writes results.md, notes below."""
-    lines = ['| Figure | Measured | Reference (same run) | Ratio | Target | Met |',
-             '|---|---|---|---|---|---|']
-    notes: list[str] = []
-    for figure in results['figures'].values():
-        mark = ''
-        if figure['note']:
-            notes.append(figure['note'])
-            mark = f' [{len(notes)}]'
-        met = {None: '', True: 'yes', False: '**no**'}[figure['met']]
-        unit = figure['unit']
-        lines.append(f"| {figure['name']}{mark} | {number(figure['value'])} {unit} | "
-                     f"{figure['reference']}: {number(figure['reference_value'])} {unit} | "
-                     f"{figure['ratio']:.3g} | {figure['target'] or ''} | {met} |")
-    lines.append('')
-    lines.extend(f'[{index}] {note}' for index, note in enumerate(notes, start=1))
-    return '\n'.join(lines) + '\n'
 
 
 def generated(page: str, text: str) -> str:
@@ -51,7 +31,7 @@ def generated(page: str, text: str) -> str:
     pattern = re.compile(re.escape(begin) + r'\n.*?' + re.escape(END), flags=re.S)
     if not pattern.search(text):
         raise SystemExit(f'{page}: no generated table (the line {begin!r} ... {END!r})')
-    table = results_table(json.loads((REPO / source).read_text()))
+    table = markdown_table(json.loads((REPO / source).read_text())['figures'].values())
     return pattern.sub(lambda _: f'{begin}\n\n{table}\n{END}', text)
 
 

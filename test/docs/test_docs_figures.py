@@ -82,7 +82,7 @@ def test_generated_benchmark_table_is_results_json_as_make_bench_writes_it() -> 
     page = (DOCS / 'benchmarks.md').read_text()
     assert TABLES['generated']('docs/benchmarks.md', page) == page, (
         'docs/benchmarks.md: run python tools/docs_tables.py')
-    table = TABLES['results_table'](figures('results'))
+    table = TABLES['markdown_table'](figures('results')['figures'].values())
     assert table == (REPO / 'benchmarks' / 'results.md').read_text()
     assert table in page
 
@@ -90,7 +90,7 @@ def test_generated_benchmark_table_is_results_json_as_make_bench_writes_it() -> 
 def test_generated_table_follows_a_changed_results_file() -> None:
     run = figures('results')
     run['figures']['service_p50_ms'].update(value=9.87, ratio=10.75, met=False)
-    table = TABLES['results_table'](run)
+    table = TABLES['markdown_table'](run['figures'].values())
     assert '| /cam/evaluate, 1 angle, p50 [10] | 9.87 ms | SetBool p50: 0.918 ms | 10.8 |' in table
     assert table not in (DOCS / 'benchmarks.md').read_text()
 
