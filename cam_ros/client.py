@@ -36,7 +36,7 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from cam_ros.core.config.parameters import SPECS
 from cam_ros.core.errors import similar_names
 
-#: Replies kept by the client's reader until taken; see the module docstring and the README.
+#: Replies kept by the client's reader until taken; see the module docstring and docs/client.md.
 REPLY_DEPTH = 1000
 CLIENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=REPLY_DEPTH,
                         reliability=ReliabilityPolicy.RELIABLE)

@@ -221,7 +221,7 @@ def parameter_sources(params: ParameterSources | Path | str | None,
 USAGE = '''\
 usage: cam_node [-h] [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [ROS_ARG]...]
 
-Serve one cam design to ROS 2 (SI units; README.md, "ROS interface", has the details).
+Serve one cam design to ROS 2 (SI units; docs/ros-interface.md has the details).
 
 services:
   ~/evaluate          cam_ros_interfaces/EvaluateCam: motion, geometry, dynamics at angles

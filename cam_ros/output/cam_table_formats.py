@@ -5,7 +5,7 @@ for an oscillating follower), then, where the format has them, slave velocity an
 per degree and per degree^2 of master (master velocity 1, as cam tables store them; not per
 second).  Numbers are positional (no exponent), with '.' as the decimal separator and the
 shortest digits that read back as the same double, so a file holds the core's values exactly.
-Conventions and their sources: README, "Cam tables for PLCs and drives".
+Conventions and their sources: docs/cam-tables.md, "Cam tables for PLCs and drives".
 """
 from __future__ import annotations
 
