@@ -303,14 +303,22 @@ def _recording_commands(sub: argparse._SubParsersAction) -> None:
                         help='print one JSON object')
 
     parser = _command(sub, 'replay', 'cam_ros.commands.recording:replay', 'Replay a recording',
-                      'Publish the recorded messages with their recorded QoS and timing.',
+                      'Publish the recorded messages with their recorded QoS and timing: '
+                      'by default the recording node\'s inputs (its master, slave state and '
+                      '~/engage calls, made again at their master messages), not its own '
+                      'outputs; stderr says what is left out.',
                       exit_codes('--apply-parameters: a node did not answer or rejected a '
-                                 'recorded change', STOPS_CLEANLY))
+                                 'recorded change; a recorded ~/engage call was not answered '
+                                 'as recorded', STOPS_CLEANLY))
     parser.add_argument('path', metavar='FILE', help='MCAP recording')
     parser.add_argument('--rate', type=POSITIVE, default=1.0, metavar='R',
                         help='speed factor (default 1: recorded timing)')
     parser.add_argument('--topics', nargs='+', default=None, metavar='TOPIC',
-                        help='replay only these topics (default all)')
+                        help='replay exactly these topics (an ~/engage_requests topic: its '
+                             'calls)')
+    parser.add_argument('--outputs', action='store_true',
+                        help='publish the recording node\'s own outputs too (commands, joint '
+                             'states, diagnostics...), where a controller may be listening')
     parser.add_argument('--apply-parameters', action='store_true',
                         help='set the recorded parameter changes (/parameter_events) on their '
                              'nodes, one atomic set per event, before the first message logged '

@@ -13,7 +13,7 @@ import threading
 from typing import Any, Callable
 
 import numpy as np
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.publisher import Publisher
@@ -24,13 +24,18 @@ from std_srvs.srv import SetBool
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.follow import END_OF_PROFILE, ENGAGED, EngageConfig, Follower
-from cam_ros.core.ecam.master import (BadMaster, ElectronicCam, LOST, MasterConfig, MasterState,
-                                      MasterTracker, OK, read_master, STALE, WAITING)
+from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
+from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
+from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
+                                              MasterTracker, OK, read_master)
+from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
                                                 MASTER_TOPIC_KEY)
+from cam_ros.node.ecam_diagnostics import (design_status, engagement_status, master_status,
+                                           recording_status)
+from cam_ros.node.ecam_log import EcamLog
 from cam_ros.node.joints import FOLLOWER_JOINT, JOINT_NAMES
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
@@ -42,8 +47,6 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
 #: The slave's state: best effort matches the broadcaster whatever its reliability.
 SLAVE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
 DIAGNOSTICS_PERIOD_S = 1.0
-LEVELS = {WAITING: DiagnosticStatus.WARN, OK: DiagnosticStatus.OK,
-          STALE: DiagnosticStatus.WARN, LOST: DiagnosticStatus.ERROR}
 
 
 class MasterFollower:
@@ -62,16 +65,19 @@ class MasterFollower:
                  recorder: Callable[[], Recorder | None]):
         self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
         jump = jump_speed(design)
-        self._design_status = self._design_diagnostics(design, jump)
+        self._design_status = design_status(node, design, jump)
         self._config = MasterConfig.from_config(design.config)
         values = design.config.parameters
+        self._unit = AxisUnit.of(design.config)
         self._follower = Follower(ElectronicCam(design.program, self._config.mapping),
                                   EngageConfig.from_parameters(values),
-                                  values['master.engage_on_start'])
+                                  values['master.engage_on_start'],
+                                  SlaveLimits.from_config(design.config), self._unit)
         self._tracks = SwitchTracks(switch_table(values))
         self._speed_limit = self._config.speed_limit(jump)
         self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
-                                      int(values['master.velocity_window'] * 1e9))
+                                      int(values['master.velocity_window'] * 1e9),
+                                      self._config.max_speed, self._config.nominal_speed)
         self._last_handover = 'none'
         # Design changes taken, and the stamp of the last master message before the latest one:
         # in ~/state, so a replay can make each recorded change at the same master message.
@@ -86,6 +92,7 @@ class MasterFollower:
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
         self._slave_topic, self._slave_dropped = values['slave.state_topic'], 0
+        self._log = EcamLog(node, LATCHED, self._slave_topic, SLAVE_QOS)
         if self._slave_topic:
             node.create_subscription(JointState, self._slave_topic, self._on_slave, SLAVE_QOS)
         node.create_service(SetBool, '~/engage', self._engage)
@@ -104,12 +111,12 @@ class MasterFollower:
         return [TopicSpec(self._master_sub.topic_name, JointState, MASTER_QOS)] + [
             TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
             for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub,
-                        self._switches_pub, self._state_pub)]
+                        self._switches_pub, self._state_pub)] + self._log.topics()
 
     def change(self, design: CamDesign) -> None:
         """Take a new design: offsets blended, other changes at a common place or at once."""
         jump, config = jump_speed(design), MasterConfig.from_config(design.config)
-        status, limit = self._design_diagnostics(design, jump), config.speed_limit(jump)
+        status, limit = design_status(self._node, design, jump), config.speed_limit(jump)
         values = design.config.parameters
         new = ElectronicCam(design.program, config.mapping)
         table = switch_table(values)
@@ -118,11 +125,15 @@ class MasterFollower:
             self._design_status, self._config = status, config
             self._tracker.timeout_ns = int(config.timeout * 1e9)
             self._tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
+            self._tracker.bound, self._tracker.nominal = config.max_speed, config.nominal_speed
+            self._unit = AxisUnit.of(design.config)
+            self._follower.unit = self._unit
             self._speed_limit, self._tracker.max_speed = limit, limit[0]
             if self._follower.cam.mapping != config.mapping or not _same(table, self._tracks):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
             # Said under the lock: the master thread cannot apply it (and say so) before.
-            self._last_handover = self._follower.change(new, EngageConfig.from_parameters(values))
+            self._last_handover = self._follower.change(
+                new, EngageConfig.from_parameters(values), SlaveLimits.from_config(design.config))
             last = self._tracker.last
             self._changes += 1
             self._changed_after = None if last is None else last.stamp_ns
@@ -155,16 +166,24 @@ class MasterFollower:
                 f'dropped a master message: {bad.reason} ({tracker.dropped[bad.reason]} so far)',
                 throttle_duration_sec=5.0)
             return
+        if state.origin:
+            self._node.get_logger().warning(
+                f'new master origin: the master moved {tracker.jump:.6g} rad in '
+                f'{tracker.jump_time:.6g} s, more than {JUMP_FACTOR:g} x '
+                f'{tracker.plausible_speed():.6g} rad/s allows ({tracker.jumps} so far): the '
+                f'slave holds and engages again from where it is')
         handover = self._follower.handover
         point = self._follower.command(state)
         if point is not None:
             self._publish(message, state, point)
+        self._say_events()
         if handover is not None and self._follower.handover is None:
             self._said_applied(handover.old, handover.new, state)
         mapping = self._follower.cam.mapping
         for word in self._tracks.update(float(mapping.turns(state.track)),
                                         state.omega / mapping.master_scaling):
             self._switches_pub.publish(UInt32(data=word))
+            self._log.switched(message.header.stamp, state.position, word)
         self._publish_state()
         if before != OK:
             self._node.get_logger().info(f'master {before} -> ok')
@@ -173,6 +192,16 @@ class MasterFollower:
                 f'master speed {state.omega:.6g} rad/s over {self._speed_limit[1]} '
                 f'({self._speed_limit[0]:.6g} rad/s)')
         self._overspeed_said = tracker.overspeed
+
+    def _say_events(self) -> None:
+        """Log what the follower noted: blends over the cam's peaks, refusals, stops."""
+        logger = self._node.get_logger()
+        for event in self._follower.events:  # one call site per severity, as rclpy requires
+            if event.startswith('stopping'):
+                logger.warning(event)
+            else:
+                logger.info(event)
+        self._follower.events.clear()
 
     def _publish(self, message: JointState, state: MasterState, point: Any) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
@@ -194,7 +223,8 @@ class MasterFollower:
         """Say where a pending design took over and how far the position command moved."""
         step = float(new.setpoints(state.track).position - old.setpoints(state.track).position)
         angle = np.degrees(float(new.mapping.cam_angle(state.track)))
-        self._last_handover = f'at cam angle {angle:.3f} deg, position command moved {step:.3g}'
+        self._last_handover = (f'at cam angle {angle:.3f} deg, position command moved '
+                               f'{self._unit.say(step)}')
         self._node.get_logger().info(f'design change applied {self._last_handover}')
 
     def _on_slave(self, message: JointState) -> None:
@@ -215,9 +245,12 @@ class MasterFollower:
     def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         with self._lock:
             response.success, response.message = self._follower.engage(request.data)
-            if not request.data:
+            if not request.data and self._follower.phase != STOPPING:
                 self._hold()
+            self._say_events()
             self._publish_state()
+            last = self._tracker.last
+            self._log.engaged(request, response, None if last is None else last.stamp_ns)
         self._node.get_logger().info(f'~/engage {request.data}: {response.message}')
         return response
 
@@ -232,9 +265,10 @@ class MasterFollower:
             return
         self._follower.lose()
         self._tracks.reset()
+        held = self._follower.held
         self._node.get_logger().warning(
             f'master silent for {self._config.timeout:g} s: holding the follower at '
-            f'{self._follower.held if self._follower.held is not None else "nothing"}')
+            f'{"nothing" if held is None else self._unit.say(held)}')
         self._hold()
         self._publish_state()
 
@@ -267,75 +301,25 @@ class MasterFollower:
         array.header.stamp = self._node.get_clock().now().to_msg()
         with self._lock:
             array.status = [self._design_status, self._master_status(),
-                            self._engagement_status(), self._recording_status()]
+                            self._engagement_status(),
+                            recording_status(self._node, self._recorder())]
         self._diagnostics_pub.publish(array)
 
     def _engagement_status(self) -> DiagnosticStatus:
-        follower, tracks = self._follower, self._tracks
-        level = DiagnosticStatus.OK if follower.phase in (ENGAGED, END_OF_PROFILE) or \
-            not follower.wanted else DiagnosticStatus.WARN
-        word = tracks.word or 0
-        switches = {f'switch {name}': 'on' if word >> index & 1 else 'off'
-                    for index, name in enumerate(tracks.table.names)}
-        return self._status('engagement', level, follower.status,
-                            engage_mode=follower.config.mode, periodic=follower.config.periodic,
-                            **{MASTER_TOPIC_KEY: self._master_sub.topic_name,
-                               DESIGN_CHANGES_KEY: self._changes,
-                               CHANGED_AFTER_KEY: ('none' if self._changed_after is None
-                                                   else self._changed_after)},
-                            slave_state_topic=self._slave_topic or 'none',
-                            slave_states_dropped=self._slave_dropped, switches=word, **switches)
-
-    def _status(self, what: str, level: bytes, message: str, **values: Any) -> DiagnosticStatus:
-        return DiagnosticStatus(
-            level=level, name=f'{self._node.get_name()}: {what}', message=message,
-            hardware_id=self._node.get_fully_qualified_name(),
-            values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
-
-    def _design_diagnostics(self, design: CamDesign, jump: float | None) -> DiagnosticStatus:
-        warnings = design.warnings()
-        return self._status(
-            'design', DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,
-            '; '.join(warnings) or 'meets its limits', **_cam_figures(design),
-            jump_speed_rad_s='none (no dynamics or no jump)' if jump is None else f'{jump:.6g}')
+        return engagement_status(
+            self._node, self._follower, self._tracks,
+            **{MASTER_TOPIC_KEY: self._master_sub.topic_name, DESIGN_CHANGES_KEY: self._changes,
+               CHANGED_AFTER_KEY: ('none' if self._changed_after is None
+                                   else self._changed_after)},
+            slave_state_topic=self._slave_topic or 'none',
+            slave_states_dropped=self._slave_dropped)
 
     def _master_status(self) -> DiagnosticStatus:
-        tracker = self._tracker
-        last = tracker.last
-        level = max(LEVELS[tracker.status], DiagnosticStatus.WARN if tracker.overspeed
-                    else DiagnosticStatus.OK)
-        message = tracker.status + (f', over {self._speed_limit[1]}' if tracker.overspeed
-                                    else '')
-        dropped = {f'dropped: {reason}': count for reason, count in tracker.dropped.items()}
         handover = self._follower.handover
-        pending = handover.describe() if handover else 'none'
-        return self._status('master', level, message, topic=self._master_sub.topic_name,
-                            accepted=tracker.accepted, dropped=sum(tracker.dropped.values()),
-                            **dropped, speed=last.omega if last else 0.0,
-                            speed_limit=f'{self._speed_limit[0]:.6g} ({self._speed_limit[1]})',
-                            design_change=pending,
-                            last_design_change=self._last_handover)
-
-    def _recording_status(self) -> DiagnosticStatus:
-        recorder = self._recorder()
-        if recorder is None:
-            return self._status('recording', DiagnosticStatus.OK, 'off')
-        if recorder.failed:
-            return self._status('recording', DiagnosticStatus.ERROR, str(recorder.error))
-        return self._status('recording', DiagnosticStatus.OK, f'recording to {recorder.path}',
-                            messages=recorder.message_count)
-
-
-def _cam_figures(design: CamDesign) -> dict[str, Any]:
-    """Return the cam's checked figures for the diagnostics (none for a motion-only design)."""
-    if design.follower is None:
-        return {'motion_only': True}
-    check = design.check
-    return dict(max_pressure_angle_deg=f'{np.degrees(check.max_pressure_angle):.3f}',
-                pressure_angle_limit_deg=f'{np.degrees(design.config.pressure_angle_limit):.3f}',
-                min_radius_of_curvature_m=f'{check.min_radius:.6g}',
-                radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
-                undercut=check.undercut)
+        return master_status(self._node, self._tracker, self._speed_limit,
+                             topic=self._master_sub.topic_name,
+                             design_change=handover.describe() if handover else 'none',
+                             last_design_change=self._last_handover)
 
 
 def _same(table: Any, tracks: SwitchTracks) -> bool:

@@ -135,9 +135,8 @@ def test_a_jaw_whose_wrapping_encoder_crossed_zero_in_a_dropout_goes_on_forward(
     # 300 rpm: the 252 deg take 0.14 s, under master.timeout (0.5 s): the master is stale, not
     # lost, and the step read 108 deg backwards went into the speed estimate (-11 rad/s).
     timeout = 0.5
-    # master.max_speed bounds what a jump is: the stream starts at 5 x the speed at cam_speed.
     process, _ = start_cam_node(DEFAULT, '-p', 'master.source:=topic', '-p',
-                                f'master.timeout:={timeout}', '-p', 'master.max_speed:=40.0', '-p',
+                                f'master.timeout:={timeout}', '-p',
                                 'slave.max_velocity:=100.0', '-p',  # cm/s
                                 'slave.max_acceleration:=8000.0')
     design = ecam_design(DEFAULT)

@@ -18,12 +18,13 @@ sample's position, then each sample's travel added. The travel since the previou
   step within half a turn; after a dropout it is the turn nearest the prediction, so a shaft
   that crossed 0 unseen goes on forward.
 
-A travel that no plausible motion explains, more than JUMP_FACTOR times what master.max_speed
-(without it: the larger of the last speed and the master speed at cam_speed) allows over the
-elapsed time (once the speed is known again after a loss or an origin: KNOWN_SPEED samples),
-is a new master origin (a restart from 0, a re-homing): the sample says so
-(origin), the estimates start afresh and the tracker counts it; the follower holds and engages
-again from where the slave is, never by unwinding the turns it made.
+A travel that no plausible motion explains is a new master origin (a restart from 0, a
+re-homing): one off the travel predicted from the last speed by more than JUMP_FACTOR times what
+master.max_speed allows over the elapsed time (without it: the larger of the last speed and
+NOMINAL_FACTOR times the master speed at cam_speed), judged once the speed is known again after
+a loss or an origin (KNOWN_SPEED samples). The sample says so (origin), the estimates start
+afresh and the tracker counts it; the follower stops, holds and engages again from where the
+slave is, never by unwinding the turns it made.
 """
 from __future__ import annotations
 
@@ -39,10 +40,11 @@ WAITING, OK, STALE, LOST = 'waiting', 'ok', 'stale', 'lost'
 #: Why a master message was dropped (the diagnostics count each).
 NO_JOINT, NOT_FINITE = 'no master joint', 'not finite'
 LENGTHS, BACKWARDS = 'mismatched array lengths', 'stamp not after the previous'
-#: A travel over this many times the plausible speed times the elapsed time is a new origin,
-#: judged once the estimates have this many samples (the first after a loss or an origin is
-#: taken as it comes: the speed it would be judged by is not known yet).
-JUMP_FACTOR, KNOWN_SPEED = 2.0, 3
+#: A travel off its prediction by more than JUMP_FACTOR times the plausible speed times the
+#: elapsed time is a new origin, judged once the estimates have KNOWN_SPEED samples (the first
+#: after a loss or an origin is taken as it comes: the speed is not known yet). Without
+#: master.max_speed the plausible speed is at least NOMINAL_FACTOR times the speed at cam_speed.
+JUMP_FACTOR, KNOWN_SPEED, NOMINAL_FACTOR = 2.0, 3, 10.0
 
 
 class BadMaster(Exception):
@@ -132,8 +134,9 @@ class MasterTracker:
         else:
             elapsed = (stamp_ns - last.stamp_ns) * 1e-9
             travel = self._travel(last, position, elapsed)
+            predicted = last.omega * elapsed
             origin = self._run >= KNOWN_SPEED and \
-                abs(travel) > JUMP_FACTOR * self.plausible_speed() * elapsed
+                abs(travel - predicted) > JUMP_FACTOR * self.plausible_speed() * elapsed
             fresh = origin or self.status == LOST
             if fresh:
                 self.speed.reset()
@@ -151,7 +154,7 @@ class MasterTracker:
         """Return the fastest master speed (rad/s) that explains a travel (see the module)."""
         if self.bound:
             return self.bound
-        return max(abs(self.last.omega) if self.last else 0.0, self.nominal)
+        return max(abs(self.last.omega) if self.last else 0.0, NOMINAL_FACTOR * self.nominal)
 
     def _travel(self, last: MasterState, position: float, elapsed: float) -> float:
         """Return the master's travel from the last sample (rad; see the module docstring)."""
