@@ -2,7 +2,7 @@
 The recorder's writer process: MCAP serialisation, compression and file writes, off the node.
 
 The node's process keeps only the taking of messages (in-process delivery is the cheapest for
-publish(); a reader in another process costs it more, see README) and sends each batch down a
+publish(); another process's reader costs it more: docs/recording.md) and sends each batch down a
 pipe; this process writes them. Commands are pickled tuples on stdin: ('open', FileSpec) first,
 then ('write', index, records), ('flush',) and ('close',); the answers on stdout are ('closed',
 counts) or ('error', text), after which it exits. End of input without 'close' means the node

@@ -144,7 +144,7 @@ def both_sides(program, joint_deg, before):
 
 
 def test_given_values_per_degree_become_si_per_rad(tmp_path):
-    assert '.nan' in given_config(tmp_path).read_text()  # written as the README shows
+    assert '.nan' in given_config(tmp_path).read_text()  # written as docs/motion.md shows
     program = load_design(given_config(tmp_path)).program
     velocity = 0.4 * MM * PER_DEG
     for joint, before in ((90.0, 0), (150.0, 1)):

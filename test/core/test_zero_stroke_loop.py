@@ -4,7 +4,7 @@ Reference written here: a quintic through (0, 0, a0) and (0, 0, a1) over a span 
 s = X^2/2 z^2 (1 - z)^2 (a0 + (a1 - a0) z) (z = x / X; it has the six end values), so for
 a0 = a1 = a: ds/dtheta = a X z (1 - z)(1 - 2 z), extremes +-a X / (6 sqrt 3) at
 z = 1/2 -+ 1/sqrt 12, the far point a X^2 / 32 at z = 1/2, Cv = 16 / (3 sqrt 3) and Ca = 32
-(the README's Cv of a loop: of s over its largest excursion). With a0 a1 > 0 the last factor
+(docs/motion.md's Cv of a loop: of s over its largest excursion). With a0 a1 > 0 the last factor
 keeps its sign, s stays on one side and turns once; with a0 a1 < 0 it changes sign inside, so
 s crosses its start and turns twice: refused. The config case (U-U over 90 deg, 0.01 mm/deg^2 at
 both ends) peaks at +-0.0866025 mm/deg.

@@ -4,7 +4,7 @@ Random motion programs split 360 deg at random angles into 2-6 segments from a r
 random laws from the registry (the laws that need parameters get sensible random ones) and random
 strokes; random followers of every kind with valid radii, offsets and arms. They go through the
 public path (flat config values -> parse_parameters -> build_design). The expectations come from
-the laws' end conditions written out here (README's continuity column), not from the code.
+the laws' end conditions written out here (docs/motion.md's continuity column), not from the code.
 """
 from __future__ import annotations
 

@@ -98,7 +98,7 @@ def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
     axis = report_axis(link.node, axis_stop)
     link.connect(first)  # answered once the node knows where the axis is: it holds there
     # The axis keeps reporting before the master runs, so a fresh node still matching the
-    # replay's best-effort publisher (see README, Command line) hears it in time too.
+    # replay's best-effort publisher (see docs/cli.md) hears it in time too.
     time.sleep(AXIS_LEAD_S)
     axis_stop.set()
     axis.join()
