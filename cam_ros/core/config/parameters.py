@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Mapping
 
 from ..dynamics.contact import STEEL_MODULUS, STEEL_POISSON
 from ..errors import did_you_mean, InvalidParameter
@@ -295,11 +295,11 @@ def _check_range(spec: ParameterSpec, value: Any) -> None:
             raise InvalidParameter(spec.name, written, f'must be <= {spec.maximum:g}')
 
 
-def check_parameter(name: str, value: Any) -> Any:
-    """Type- and range-check one parameter value; return it (arrays as tuples)."""
-    spec = SPECS.get(name)
+def check_parameter(name: str, value: Any, specs: Mapping[str, ParameterSpec] = SPECS) -> Any:
+    """Type- and range-check one parameter value (of specs); return it (arrays as tuples)."""
+    spec = specs.get(name)
     if spec is None:
-        raise InvalidParameter(name, value, f'is not a cam parameter{did_you_mean(name, SPECS)}')
+        raise InvalidParameter(name, value, f'is not a cam parameter{did_you_mean(name, specs)}')
     checked = check_type(spec, value)
     _check_range(spec, checked)
     return checked

@@ -189,7 +189,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     _check_parallel(values, ('motion.laws', *(name for name in TASK_ARRAYS if values[name])))
     _check_parallel(values, ('motion.via_segment', 'motion.via_deg', 'motion.via_position'))
     _check_parallel(values, ('motion.table_u', 'motion.table_y'))
-    _check_switches(values)
+    check_switches(values)
     return CamConfig(
         length_unit=values['length_unit'],
         clockwise=values['rotation'] == 'clockwise',
@@ -301,7 +301,7 @@ def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:
                                    f'must have {length} entries, one per entry of {names[0]}')
 
 
-def _check_switches(values: Mapping[str, Any]) -> None:
+def check_switches(values: Mapping[str, Any]) -> None:
     """Check the cam switch tracks: one entry each, at most 32, named once, on != off."""
     names = values['switches.names']
     _check_parallel(values, ('switches.names', 'switches.on_deg', 'switches.off_deg',
