@@ -19,7 +19,8 @@ REPO = Path(__file__).resolve().parents[2]
 CONFIG_DIR = REPO / 'config'
 DEFAULT_CONFIG = CONFIG_DIR / 'default.yaml'
 #: Every config file shipped with the package (others are being added: glob them).
-SHIPPED_CONFIGS = sorted(CONFIG_DIR.glob('*.yaml'))
+SHIPPED_CONFIGS = sorted(path for path in CONFIG_DIR.glob('*.yaml')
+                         if '\n    axes:' not in path.read_text())  # not machine files
 #: The shipped configs that shape a cam (not the motion-only ones, follower.type none).
 SHIPPED_CAMS = [path for path in SHIPPED_CONFIGS if 'type: none' not in path.read_text()]
 

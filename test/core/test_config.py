@@ -14,7 +14,8 @@ from cam_ros.core.config.params_file import flatten, read_parameters_file
 from cam_ros.core.config.schema import parse_parameters
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
-SHIPPED = sorted(CONFIG_DIR.glob('*.yaml'))
+SHIPPED = sorted(path for path in CONFIG_DIR.glob('*.yaml')  # single cams; machines: test_machine
+                 if 'axes' not in read_parameters_file(path))
 DEFAULT_TEXT = (CONFIG_DIR / 'default.yaml').read_text()
 
 

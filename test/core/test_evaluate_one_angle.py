@@ -29,7 +29,8 @@ def config_design(name: str):
 
 
 DESIGNS = {
-    **{path.stem: path.name for path in sorted(CONFIG_DIR.glob('*.yaml'))},
+    **{path.stem: path.name for path in sorted(CONFIG_DIR.glob('*.yaml'))
+       if 'axes' not in read_parameters_file(path)},  # single cams, not machine files
     'arm-roller': {'follower.type': 'oscillating_roller', **OSCILLATING},
     'arm-flat-with-cam': {'follower.type': 'oscillating_flat', 'follower.face_offset': -1.5,
                           'follower.arm_turns_with_cam': True, **OSCILLATING},
