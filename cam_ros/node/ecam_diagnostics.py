@@ -13,7 +13,7 @@ from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rclpy.node import Node
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.follow import END_OF_PROFILE, ENGAGED, Follower
+from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.master_tracker import LOST, MasterTracker, OK, STALE, WAITING
 from cam_ros.core.ecam.switches import SwitchTracks
 from cam_ros.recording import Recorder
@@ -30,11 +30,12 @@ def status(node: Node, what: str, level: bytes, message: str, **values: Any) -> 
         values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
 
 
-def design_status(node: Node, design: CamDesign, jump: float | None) -> DiagnosticStatus:
+def design_status(node: Node, design: CamDesign, jump: float | None,
+                  what: str = 'design') -> DiagnosticStatus:
     """Say whether the design meets its limits, with its checked figures and jump speed."""
     warnings = design.warnings()
     return status(
-        node, 'design', DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,
+        node, what, DiagnosticStatus.WARN if warnings else DiagnosticStatus.OK,
         '; '.join(warnings) or 'meets its limits', **cam_figures(design),
         jump_speed_rad_s='none (no dynamics or no jump)' if jump is None else f'{jump:.6g}')
 
@@ -54,16 +55,16 @@ def master_status(node: Node, tracker: MasterTracker, speed_limit: tuple[float, 
                   speed_limit=f'{speed_limit[0]:.6g} ({speed_limit[1]})', **values)
 
 
-def engagement_status(node: Node, follower: Follower, tracks: SwitchTracks,
+def engagement_status(node: Node, axes: SlaveAxes, tracks: SwitchTracks,
                       **values: Any) -> DiagnosticStatus:
-    """Say what the slave does, its engage mode and the cam switches' states."""
-    level = DiagnosticStatus.OK if follower.phase in (ENGAGED, END_OF_PROFILE) or \
-        not follower.wanted else DiagnosticStatus.WARN
+    """Say what the slaves do, their engage mode and the cam switches' states."""
+    level = DiagnosticStatus.OK if axes.engaged else DiagnosticStatus.WARN
     word = tracks.word or 0
     switches = {f'switch {name}': 'on' if word >> index & 1 else 'off'
                 for index, name in enumerate(tracks.table.names)}
-    return status(node, 'engagement', level, follower.status, engage_mode=follower.config.mode,
-                  periodic=follower.config.periodic, **values, switches=word, **switches)
+    config = axes.followers[0].config
+    return status(node, 'engagement', level, axes.status, engage_mode=config.mode,
+                  periodic=config.periodic, **values, switches=word, **switches)
 
 
 def recording_status(node: Node, recorder: Recorder | None) -> DiagnosticStatus:

@@ -11,7 +11,7 @@ reported state (slave.state_topic): where a first engagement starts.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Sequence
 
 from cam_ros_interfaces.msg import EngageRequest, SwitchState
 from rclpy.node import Node
@@ -27,11 +27,12 @@ from cam_ros.recording import TopicSpec
 class EcamLog:
     """Publish the node's answered ~/engage calls and its stamped switch words."""
 
-    def __init__(self, node: Node, latched: QoSProfile, slave_topic: str, slave_qos: QoSProfile):
+    def __init__(self, node: Node, latched: QoSProfile, slave_topics: Sequence[str],
+                 slave_qos: QoSProfile):
         """Create ~/engage_requests and ~/switch_state with the latched QoS of ~/switches."""
         self._engage_pub = publisher(node, EngageRequest, '~/engage_requests', latched)
         self._switch_pub = publisher(node, SwitchState, '~/switch_state', latched)
-        self._slave = [TopicSpec(slave_topic, JointState, slave_qos)] if slave_topic else []
+        self._slave = [TopicSpec(topic, JointState, slave_qos) for topic in slave_topics]
 
     def topics(self) -> list[TopicSpec]:
         """Return the slave's state and both topics, for the recorder."""

@@ -1,16 +1,18 @@
 """
 Electronic cam on ROS 2: follow a master axis topic and command a ros2_control axis.
 
-The CamNode creates a MasterFollower when master.source is topic. For every accepted master
+The CamNode creates a MasterFollower when master.source is topic, for the axes it serves (a
+machine's, or the single cam's joint follower: one path for both). For every accepted master
 message (sensor_msgs/JointState) it publishes ~/commands for a forward_command_controller
-(position or velocity of the follower joint), ~/joint_states with the master's stamp and, with a
-trajectory horizon, ~/joint_trajectory for a joint_trajectory_controller; /diagnostics about
-once a second. Every number comes from cam_ros.core.ecam.master and cam_ros.core.ecam.handover.
+(position or velocity of every axis joint, in the axes' order), ~/joint_states with the master's
+stamp (the master joint and every axis joint) and, with a trajectory horizon, ~/joint_trajectory
+for a joint_trajectory_controller; /diagnostics about once a second. One master subscription,
+one speed estimate for all axes; every number comes from cam_ros.core.ecam.
 """
 from __future__ import annotations
 
 import threading
-from typing import Any, Callable
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -24,10 +26,11 @@ from std_srvs.srv import SetBool
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
+from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
-from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
+from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
-                                              MasterTracker, OK, read_master)
+                                              MasterTracker, NO_JOINT, OK, read_master)
 from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
@@ -36,7 +39,7 @@ from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGE
 from cam_ros.node.ecam_diagnostics import (design_status, engagement_status, master_status,
                                            recording_status)
 from cam_ros.node.ecam_log import EcamLog
-from cam_ros.node.joints import FOLLOWER_JOINT, JOINT_NAMES
+from cam_ros.node.joints import CAM_JOINT
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
 
@@ -50,34 +53,45 @@ DIAGNOSTICS_PERIOD_S = 1.0
 
 
 class MasterFollower:
-    """Turn master messages into follower commands; hand design changes over smoothly."""
+    """Turn master messages into every axis's commands; hand design changes over smoothly.
+
+    axes: (joint name, design) per axis; their machine-wide parameters (master.*, switches.*,
+    command.trajectory_*) are the first axis's. switches: the switches.* values, on the machine
+    angle (the master position) when machine, else on the single cam's angle.
+    """
 
     @classmethod
-    def attach(cls, node: Node, design: CamDesign, joint_pub: Publisher,
+    def attach(cls, node: Node, axes: Sequence[tuple[str, CamDesign]],
+               switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
                recorder: Callable[[], Recorder | None]) -> MasterFollower | None:
-        """Return the component if the design's master.source is topic, else None."""
+        """Return the component if master.source is topic, else None."""
         refuse_rewiring(node)
-        if MasterConfig.from_config(design.config).source != 'topic':
+        if MasterConfig.from_config(axes[0][1].config).source != 'topic':
             return None
-        return cls(node, design, joint_pub, recorder)
+        return cls(node, axes, switches, machine, joint_pub, recorder)
 
-    def __init__(self, node: Node, design: CamDesign, joint_pub: Publisher,
+    def __init__(self, node: Node, axes: Sequence[tuple[str, CamDesign]],
+                 switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
                  recorder: Callable[[], Recorder | None]):
         self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
-        jump = jump_speed(design)
-        self._design_status = design_status(node, design, jump)
-        self._config = MasterConfig.from_config(design.config)
-        values = design.config.parameters
-        self._unit = AxisUnit.of(design.config)
-        self._follower = Follower(ElectronicCam(design.program, self._config.mapping),
-                                  EngageConfig.from_parameters(values),
-                                  values['master.engage_on_start'],
-                                  SlaveLimits.from_config(design.config), self._unit)
-        self._tracks = SwitchTracks(switch_table(values))
-        self._speed_limit = self._config.speed_limit(jump)
+        self._machine = machine
+        first = axes[0][1].config
+        values = first.parameters
+        self._config = MasterConfig.from_config(first)
+        self._units = [AxisUnit.of(design.config) for _, design in axes]
+        self._axes = SlaveAxes(
+            [name for name, _ in axes],
+            [Follower(ElectronicCam(design.program, MasterConfig.from_config(
+                design.config).mapping), EngageConfig.from_parameters(design.config.parameters),
+                values['master.engage_on_start'], SlaveLimits.from_config(design.config), unit)
+             for (_, design), unit in zip(axes, self._units)],
+            [design.config.parameters['command.interface'] for _, design in axes])
+        self._design_statuses = _design_statuses(node, axes)
+        self._tracks = SwitchTracks(switch_table(switches))
+        self._speed_limit = _speed_limit(axes)
         self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
                                       int(values['master.velocity_window'] * 1e9),
-                                      self._config.max_speed, self._config.nominal_speed)
+                                      self._config.max_speed, _nominal_speed(axes))
         self._last_handover = 'none'
         # Design changes taken, and the stamp of the last master message before the latest one:
         # in ~/state, so a replay can make each recorded change at the same master message.
@@ -91,20 +105,23 @@ class MasterFollower:
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
-        self._slave_topic, self._slave_dropped = values['slave.state_topic'], 0
-        self._log = EcamLog(node, LATCHED, self._slave_topic, SLAVE_QOS)
-        if self._slave_topic:
-            node.create_subscription(JointState, self._slave_topic, self._on_slave, SLAVE_QOS)
+        self._slave_topics = {design.config.parameters['slave.state_topic']
+                              for _, design in axes} - {''}
+        self._slave_dropped = 0
+        self._log = EcamLog(node, LATCHED, sorted(self._slave_topics), SLAVE_QOS)
+        for topic in sorted(self._slave_topics):
+            node.create_subscription(JointState, topic, self._on_slave, SLAVE_QOS)
         node.create_service(SetBool, '~/engage', self._engage)
         self._intake = master_intake(node, self._config.topic, self._on_master)
         self._master_sub = self._intake.entity
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
         self._publish_state()
+        interfaces = ', '.join(f'{name} {interface}' for name, interface in
+                               zip(self._axes.names, self._axes.interfaces))
         node.get_logger().info(
             f'electronic cam: following {self._master_sub.topic_name} (joint '
-            f'{self._config.joint}), {self._config.interface} commands on '
-            f'{self._commands_pub.topic_name}')
+            f'{self._config.joint}), commands on {self._commands_pub.topic_name} ({interfaces})')
 
     def topics(self) -> list[TopicSpec]:
         """Return the master input and the command topics, for the recorder."""
@@ -113,28 +130,39 @@ class MasterFollower:
             for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub,
                         self._switches_pub, self._state_pub)] + self._log.topics()
 
-    def change(self, design: CamDesign) -> None:
-        """Take a new design: offsets blended, other changes at a common place or at once."""
-        jump, config = jump_speed(design), MasterConfig.from_config(design.config)
-        status, limit = design_status(self._node, design, jump), config.speed_limit(jump)
-        values = design.config.parameters
-        new = ElectronicCam(design.program, config.mapping)
-        table = switch_table(values)
+    def change(self, axes: Sequence[tuple[str, CamDesign]],
+               switches: Mapping[str, Any]) -> None:
+        """Take new designs: offsets blended, other changes at a common place or at once."""
+        first = axes[0][1].config
+        config, values = MasterConfig.from_config(first), first.parameters
+        statuses = _design_statuses(self._node, axes)
+        limit, table = _speed_limit(axes), switch_table(switches)
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
-            self._design_status, self._config = status, config
-            self._tracker.timeout_ns = int(config.timeout * 1e9)
-            self._tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
-            self._tracker.bound, self._tracker.nominal = config.max_speed, config.nominal_speed
-            self._unit = AxisUnit.of(design.config)
-            self._follower.unit = self._unit
-            self._speed_limit, self._tracker.max_speed = limit, limit[0]
-            if self._follower.cam.mapping != config.mapping or not _same(table, self._tracks):
+            self._design_statuses, self._config = statuses, config
+            tracker = self._tracker
+            tracker.timeout_ns = int(config.timeout * 1e9)
+            tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
+            tracker.bound, tracker.nominal = config.max_speed, _nominal_speed(axes)
+            self._speed_limit, tracker.max_speed = limit, limit[0]
+            self._units = [AxisUnit.of(design.config) for _, design in axes]
+            said = []
+            for (name, design), follower, unit in zip(axes, self._axes.followers, self._units):
+                mapping = MasterConfig.from_config(design.config).mapping
+                if not self._machine and follower.cam.mapping != mapping:
+                    self._tracks = SwitchTracks(table)  # the cam angle of the switches moved
+                follower.unit = unit
+                # Said under the lock: the master thread cannot apply it (and say so) before.
+                said.append(follower.change(
+                    ElectronicCam(design.program, mapping),
+                    EngageConfig.from_parameters(design.config.parameters),
+                    SlaveLimits.from_config(design.config)))
+            self._axes.interfaces = [design.config.parameters['command.interface']
+                                     for _, design in axes]
+            if not _same(table, self._tracks):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
-            # Said under the lock: the master thread cannot apply it (and say so) before.
-            self._last_handover = self._follower.change(
-                new, EngageConfig.from_parameters(values), SlaveLimits.from_config(design.config))
-            last = self._tracker.last
+            self._last_handover = _by_axis(self._axes.names, said)
+            last = tracker.last
             self._changes += 1
             self._changed_after = None if last is None else last.stamp_ns
             self._node.get_logger().info(f'design change {self._last_handover}')
@@ -171,15 +199,17 @@ class MasterFollower:
                 f'new master origin: the master moved {tracker.jump:.6g} rad in '
                 f'{tracker.jump_time:.6g} s, more than {JUMP_FACTOR:g} x '
                 f'{tracker.plausible_speed():.6g} rad/s allows ({tracker.jumps} so far): the '
-                f'slave holds and engages again from where it is')
-        handover = self._follower.handover
-        point = self._follower.command(state)
-        if point is not None:
-            self._publish(message, state, point)
+                f'slaves hold and engage again from where they are')
+        handovers = [follower.handover for follower in self._axes.followers]
+        points = self._axes.command(state)
+        if points is not None:
+            self._publish(message, state, points)
         self._say_events()
-        if handover is not None and self._follower.handover is None:
-            self._said_applied(handover.old, handover.new, state)
-        mapping = self._follower.cam.mapping
+        for name, handover, follower, unit in zip(self._axes.names, handovers,
+                                                  self._axes.followers, self._units):
+            if handover is not None and follower.handover is None:
+                self._said_applied(name, handover.old, handover.new, state, unit)
+        mapping = CamMapping() if self._machine else self._axes.followers[0].cam.mapping
         for word in self._tracks.update(float(mapping.turns(state.track)),
                                         state.omega / mapping.master_scaling):
             self._switches_pub.publish(UInt32(data=word))
@@ -194,58 +224,73 @@ class MasterFollower:
         self._overspeed_said = tracker.overspeed
 
     def _say_events(self) -> None:
-        """Log what the follower noted: blends over the cam's peaks, refusals, stops."""
+        """Log what the followers noted: blends over the cam's peaks, refusals, stops."""
         logger = self._node.get_logger()
-        for event in self._follower.events:  # one call site per severity, as rclpy requires
-            if event.startswith('stopping'):
+        for event in self._axes.events():  # one call site per severity, as rclpy requires
+            if 'stopping:' in event:
                 logger.warning(event)
             else:
                 logger.info(event)
-        self._follower.events.clear()
 
-    def _publish(self, message: JointState, state: MasterState, point: Any) -> None:
+    def _publish(self, message: JointState, state: MasterState, points: list[Any]) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
-        position, velocity = float(point.position), float(point.velocity)
-        value = position if self._config.interface == 'position' else velocity
-        self._commands_pub.publish(Float64MultiArray(data=[value]))
-        joints = JointState(name=list(JOINT_NAMES), position=[state.position, position],
-                            velocity=[state.omega, velocity])
+        self._commands_pub.publish(Float64MultiArray(data=self._axes.values(points)))
+        joints = JointState(name=[CAM_JOINT, *self._axes.names],
+                            position=[state.position, *(float(p.position) for p in points)],
+                            velocity=[state.omega, *(float(p.velocity) for p in points)])
         joints.header = message.header
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:
             count = self._config.trajectory_points
             times = self._config.trajectory_horizon / count * np.arange(1, count + 1)
-            ahead = self._follower.ahead(state, times)
-            self._trajectory_pub.publish(_trajectory(times, ahead.position, ahead.velocity,
-                                                     ahead.acceleration))
+            ahead = self._axes.ahead(state, times)
+            self._trajectory_pub.publish(_trajectory(
+                self._axes.names, times, *(np.array([getattr(point, field) for point in ahead])
+                                           for field in ('position', 'velocity',
+                                                         'acceleration'))))
 
-    def _said_applied(self, old: ElectronicCam, new: ElectronicCam, state: MasterState) -> None:
+    def _said_applied(self, name: str, old: ElectronicCam, new: ElectronicCam,
+                      state: MasterState, unit: AxisUnit) -> None:
         """Say where a pending design took over and how far the position command moved."""
         step = float(new.setpoints(state.track).position - old.setpoints(state.track).position)
         angle = np.degrees(float(new.mapping.cam_angle(state.track)))
-        self._last_handover = (f'at cam angle {angle:.3f} deg, position command moved '
-                               f'{self._unit.say(step)}')
+        applied = f'at cam angle {angle:.3f} deg, position command moved {unit.say(step)}'
+        self._last_handover = applied if len(self._axes) == 1 else f'{name}: {applied}'
         self._node.get_logger().info(f'design change applied {self._last_handover}')
 
     def _on_slave(self, message: JointState) -> None:
-        """Note the driven axis's position (joint follower); where a first engagement starts."""
-        try:
-            position, _ = read_master(FOLLOWER_JOINT, message.name, message.position,
-                                      message.velocity, message.effort)
-        except BadMaster as bad:
-            with self._lock:
-                self._slave_dropped += 1
-            self._node.get_logger().warning(
-                f'dropped a {self._slave_topic} message: {bad.reason} '
-                f'({self._slave_dropped} so far)', throttle_duration_sec=5.0)
+        """Note the driven axes' positions (their joints); where a first engagement starts."""
+        found = []
+        for name, follower in zip(self._axes.names, self._axes.followers):
+            if name not in message.name:
+                continue
+            try:
+                position, _ = read_master(name, message.name, message.position,
+                                          message.velocity, message.effort)
+            except BadMaster as bad:
+                self._drop_slave(bad.reason)
+                return
+            found.append((follower, position))
+        if not found:
+            self._drop_slave(NO_JOINT)
             return
         with self._lock:
-            self._follower.present = position
+            for follower, position in found:
+                follower.present = position
+
+    def _drop_slave(self, reason: str) -> None:
+        """Count and say a dropped slave state message."""
+        with self._lock:
+            self._slave_dropped += 1
+        self._node.get_logger().warning(
+            f'dropped a slave state message: {reason} ({self._slave_dropped} so far)',
+            throttle_duration_sec=5.0)
 
     def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         with self._lock:
-            response.success, response.message = self._follower.engage(request.data)
-            if not request.data and self._follower.phase != STOPPING:
+            response.success, response.message = self._axes.engage(request.data)
+            if not request.data and not any(follower.phase == STOPPING
+                                            for follower in self._axes.followers):
                 self._hold()
             self._say_events()
             self._publish_state()
@@ -259,38 +304,43 @@ class MasterFollower:
             self._hold_when_lost()
 
     def _hold_when_lost(self) -> None:
-        """Notice master silence: hold the follower once the master is lost."""
+        """Notice master silence: hold every axis once the master is lost."""
         status = self._tracker.check(self._node.get_clock().now().nanoseconds)
         if status != LOST:
             return
-        self._follower.lose()
+        self._axes.lose()
         self._tracks.reset()
-        held = self._follower.held
+        held = ', '.join('nothing' if position is None else unit.say(position)
+                         for position, unit in zip(self._axes.held, self._units))
         self._node.get_logger().warning(
-            f'master silent for {self._config.timeout:g} s: holding the follower at '
-            f'{"nothing" if held is None else self._unit.say(held)}')
+            f'master silent for {self._config.timeout:g} s: holding '
+            f'{"the follower" if len(self._axes) == 1 else ", ".join(self._axes.names)} at '
+            f'{held}')
         self._hold()
         self._publish_state()
 
     def _hold(self) -> None:
-        """Command the held position at rest (nothing if nothing was ever commanded)."""
-        held = self._follower.held
-        if held is None:
+        """Command the held positions at rest (nothing unless every axis was commanded)."""
+        values = self._axes.hold_values()
+        if values is None:
             return
-        self._commands_pub.publish(Float64MultiArray(
-            data=[held if self._config.interface == 'position' else 0.0]))
+        held = [float(position) for position in self._axes.held]  # type: ignore[arg-type]
+        self._commands_pub.publish(Float64MultiArray(data=values))
         last = self._tracker.last
-        joints = JointState(name=list(JOINT_NAMES), velocity=[0.0, 0.0],
-                            position=[last.position if last else 0.0, held])
+        joints = JointState(name=[CAM_JOINT, *self._axes.names],
+                            velocity=[0.0] * (len(held) + 1),
+                            position=[last.position if last else 0.0, *held])
         joints.header.stamp = self._node.get_clock().now().to_msg()
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:
+            rest = np.zeros((len(held), 1))
             self._trajectory_pub.publish(_trajectory(
-                np.array([self._config.trajectory_horizon]), *np.array([[held], [0.0], [0.0]])))
+                self._axes.names, np.array([self._config.trajectory_horizon]),
+                np.array(held)[:, np.newaxis], rest, rest))
 
     def _publish_state(self) -> None:
-        """Publish ~/state when the slave's status, the switch word or the design changed."""
-        now = (self._follower.status, self._tracks.word, self._changes)
+        """Publish ~/state when the slaves' status, the switch word or the design changed."""
+        now = (self._axes.status, self._tracks.word, self._changes)
         if now != self._said:
             self._said = now
             self._state_pub.publish(self._engagement_status())
@@ -300,26 +350,55 @@ class MasterFollower:
         array = DiagnosticArray()
         array.header.stamp = self._node.get_clock().now().to_msg()
         with self._lock:
-            array.status = [self._design_status, self._master_status(),
+            array.status = [*self._design_statuses, self._master_status(),
                             self._engagement_status(),
                             recording_status(self._node, self._recorder())]
         self._diagnostics_pub.publish(array)
 
     def _engagement_status(self) -> DiagnosticStatus:
         return engagement_status(
-            self._node, self._follower, self._tracks,
+            self._node, self._axes, self._tracks,
             **{MASTER_TOPIC_KEY: self._master_sub.topic_name, DESIGN_CHANGES_KEY: self._changes,
                CHANGED_AFTER_KEY: ('none' if self._changed_after is None
                                    else self._changed_after)},
-            slave_state_topic=self._slave_topic or 'none',
+            slave_state_topic=', '.join(sorted(self._slave_topics)) or 'none',
             slave_states_dropped=self._slave_dropped)
 
     def _master_status(self) -> DiagnosticStatus:
-        handover = self._follower.handover
+        pending = [(name, follower.handover.describe())
+                   for name, follower in zip(self._axes.names, self._axes.followers)
+                   if follower.handover is not None]
         return master_status(self._node, self._tracker, self._speed_limit,
                              topic=self._master_sub.topic_name,
-                             design_change=handover.describe() if handover else 'none',
+                             design_change=_by_axis([name for name, _ in pending],
+                                                    [said for _, said in pending]) or 'none',
                              last_design_change=self._last_handover)
+
+
+def _design_statuses(node: Node, axes: Sequence[tuple[str, CamDesign]]
+                     ) -> list[DiagnosticStatus]:
+    """Return each axis's design diagnostics ('design', or 'design NAME' in a machine)."""
+    return [design_status(node, design, jump_speed(design),
+                          'design' if len(axes) == 1 else f'design {name}')
+            for name, design in axes]
+
+
+def _by_axis(names: Sequence[str], said: Sequence[str]) -> str:
+    """Join what each axis said (just the text for a single axis)."""
+    if len(said) <= 1:
+        return ''.join(said)
+    return '; '.join(f'{name}: {text}' for name, text in zip(names, said))
+
+
+def _speed_limit(axes: Sequence[tuple[str, CamDesign]]) -> tuple[float, str]:
+    """Return the master speed to warn above and what sets it, over every axis."""
+    return min(MasterConfig.from_config(design.config).speed_limit(jump_speed(design))
+               for _, design in axes)
+
+
+def _nominal_speed(axes: Sequence[tuple[str, CamDesign]]) -> float:
+    """Return the master speed at cam_speed (the same for every axis of a machine)."""
+    return MasterConfig.from_config(axes[0][1].config).nominal_speed
 
 
 def _same(table: Any, tracks: SwitchTracks) -> bool:
@@ -336,13 +415,13 @@ def jump_speed(design: CamDesign) -> float | None:
     return None if report is None else report.jump_speed
 
 
-def _trajectory(times: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
-                accelerations: np.ndarray) -> JointTrajectory:
-    """Build a follower trajectory starting now (stamp 0) with points at times (s)."""
-    trajectory = JointTrajectory(joint_names=[FOLLOWER_JOINT])
+def _trajectory(names: Sequence[str], times: np.ndarray, positions: np.ndarray,
+                velocities: np.ndarray, accelerations: np.ndarray) -> JointTrajectory:
+    """Build the axes' trajectory starting now (stamp 0): rows per axis, points at times (s)."""
+    trajectory = JointTrajectory(joint_names=list(names))
     trajectory.points = [
-        JointTrajectoryPoint(positions=[p], velocities=[v], accelerations=[a],
+        JointTrajectoryPoint(positions=p, velocities=v, accelerations=a,
                              time_from_start=Duration(nanoseconds=round(t * 1e9)).to_msg())
-        for t, p, v, a in zip(times.tolist(), positions.tolist(), velocities.tolist(),
-                              accelerations.tolist())]
+        for t, p, v, a in zip(times.tolist(), positions.T.tolist(), velocities.T.tolist(),
+                              accelerations.T.tolist())]
     return trajectory

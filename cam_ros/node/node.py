@@ -102,8 +102,9 @@ class CamNode(Node):
         self._joint_pub = publisher(self, JointState, '~/joint_states', STATE_QOS)
         self._extras_pub = publisher(self, Vector3Stamped, '~/state_extras', STATE_QOS)
         self._dynamics_pub = publisher(self, Float64MultiArray, '~/dynamics', LATCHED)
-        self._ecam = MasterFollower.attach(self, self.design, self._joint_pub,
-                                           lambda: self._recording.recorder)
+        self._ecam = MasterFollower.attach(self, [(FOLLOWER_JOINT, self.design)],
+                                           self.design.config.parameters, False,
+                                           self._joint_pub, lambda: self._recording.recorder)
         self._start_ns = self.get_clock().now().nanoseconds
         self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
                                               self._publish_state)
@@ -163,7 +164,7 @@ class CamNode(Node):
         self.design, self._pending = self._pending, None
         if any(param.name != RECORDING_SWITCH for param in updates):  # not the switch alone
             if self._ecam:
-                self._ecam.change(self.design)
+                self._ecam.change([(FOLLOWER_JOINT, self.design)], self.design.config.parameters)
             self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
             self._publish_design()
             self._log_design()

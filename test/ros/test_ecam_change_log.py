@@ -7,6 +7,7 @@ from conftest import CONFIG_DIR
 from ecam_support import ecam_design, master_message
 from sensor_msgs.msg import JointState
 
+from cam_ros.node.joints import FOLLOWER_JOINT
 from cam_ros.node.master_follower import MasterFollower
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
@@ -20,7 +21,8 @@ RACE_S = 0.5
 def test_pending_is_said_before_applied_even_when_the_master_applies_it_at_once(executor):
     """The master sample that applies the change arrives while 'pending' is being logged."""
     node = executor.node('change_log')
-    follower = MasterFollower(node, ecam_design(DEFAULT, **MASTER),
+    design = ecam_design(DEFAULT, **MASTER)
+    follower = MasterFollower(node, [(FOLLOWER_JOINT, design)], design.config.parameters, False,
                               node.create_publisher(JointState, '~/joints', 10), lambda: None)
     try:
         said: list[str] = []
@@ -41,7 +43,8 @@ def test_pending_is_said_before_applied_even_when_the_master_applies_it_at_once(
         for k in range(2):
             follower._on_master(still(k))
         logger.info = log
-        follower.change(ecam_design(DEFAULT, **MASTER, **RISE))  # both dwell at 1 rad
+        changed = ecam_design(DEFAULT, **MASTER, **RISE)  # both dwell at 1 rad
+        follower.change([(FOLLOWER_JOINT, changed)], changed.config.parameters)
         follower._on_master(still(4))
     finally:
         follower.stop()

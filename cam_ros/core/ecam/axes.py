@@ -1,0 +1,95 @@
+"""
+The slave axes of one master, commanded together: one Follower per axis, one master sample for all.
+
+A machine of N axes is the general case and a single cam is N = 1 (its joint named follower).
+Every master sample gives each axis its setpoints; commands go out only when every axis has one,
+since a forward_command_controller takes all its joints in one message. Engage, disengage and a
+master loss act on every axis at once (a machine starts and stops as one).
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+
+from .follow import END_OF_PROFILE, ENGAGED, Follower
+from .master import Setpoints
+from .master_tracker import MasterState
+
+
+class SlaveAxes:
+    """Followers by axis name, each with its command interface ('position' or 'velocity')."""
+
+    def __init__(self, names: Sequence[str], followers: Sequence[Follower],
+                 interfaces: Sequence[str]):
+        self.names, self.followers = tuple(names), list(followers)
+        self.interfaces = list(interfaces)
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def follower(self, name: str) -> Follower:
+        """Return the follower of an axis by name."""
+        return self.followers[self.names.index(name)]
+
+    @property
+    def status(self) -> str:
+        """Say what the axes do: one status when they agree, else each axis's."""
+        said = [follower.status for follower in self.followers]
+        if len(set(said)) == 1:
+            return said[0]
+        return '; '.join(f'{name}: {status}' for name, status in zip(self.names, said))
+
+    @property
+    def engaged(self) -> bool:
+        """Say whether every axis follows its cam or ended its one-shot profile (or is off)."""
+        return all(follower.phase in (ENGAGED, END_OF_PROFILE) or not follower.wanted
+                   for follower in self.followers)
+
+    @property
+    def held(self) -> list[Optional[float]]:
+        """Return each axis's last position commanded (None: nothing yet)."""
+        return [follower.held for follower in self.followers]
+
+    def command(self, state: MasterState) -> Optional[list[Setpoints]]:
+        """Return every axis's setpoints for a master sample, or None unless all have one."""
+        points = [follower.command(state) for follower in self.followers]
+        return None if any(point is None for point in points) else points  # type: ignore
+
+    def values(self, points: Sequence[Setpoints]) -> list[float]:
+        """Return the command of each axis for its interface (position, or velocity)."""
+        return [float(point.position if interface == 'position' else point.velocity)
+                for point, interface in zip(points, self.interfaces)]
+
+    def hold_values(self) -> Optional[list[float]]:
+        """Return the hold command of each axis (its position, or velocity 0), None if any has
+        nothing commanded yet."""
+        held = self.held
+        if any(position is None for position in held):
+            return None
+        return [float(position) if interface == 'position' else 0.0  # type: ignore
+                for position, interface in zip(held, self.interfaces)]
+
+    def ahead(self, state: MasterState, times: np.ndarray) -> list[Setpoints]:
+        """Return each axis's setpoints at times (s) from now if the master keeps its speed."""
+        return [follower.ahead(state, times) for follower in self.followers]
+
+    def engage(self, on: bool) -> tuple[bool, str]:
+        """Engage or disengage every axis; return success (all) and what each said."""
+        answers = [follower.engage(on) for follower in self.followers]
+        message = answers[0][1] if len(answers) == 1 else '; '.join(
+            f'{name}: {said}' for name, (_, said) in zip(self.names, answers))
+        return all(ok for ok, _ in answers), message
+
+    def lose(self) -> None:
+        """The master is lost: every axis holds."""
+        for follower in self.followers:
+            follower.lose()
+
+    def events(self) -> list[str]:
+        """Take what the followers noted (axis names in front when there are several)."""
+        said = []
+        for name, follower in zip(self.names, self.followers):
+            said += [event if len(self) == 1 else f'{name}: {event}' for event in follower.events]
+            follower.events.clear()
+        return said
