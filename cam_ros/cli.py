@@ -173,7 +173,11 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         choices=tuple(TABLE_FORMATS) + tuple(f for f in MACHINING_FORMATS
                                                              if f not in TABLE_FORMATS),
                         help='a cam table: csv (default), sew (MOVI-C point list), xyva '
-                             '(CODESYS SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL); '
+                             '(CODESYS SMC_CAMXYVA columns), st (IEC 61131-3 ARRAY OF LREAL), '
+                             'lenze (Global Drive Cam Loader text), kollmorgen (KAS cam CSV), '
+                             'rockwell (L5X tag of CAM[N] for MCCP), twincat-functions (ST '
+                             'ARRAY OF MC_MotionFunctionPoint: polynomial laws exact, others '
+                             'quintic pieces within --tolerance); '
                              'a cutter path: gcode (default), csv (the nominal contour with '
                              'its unit normals, for a CMM), dxf')
     spacing = parser.add_mutually_exclusive_group()

@@ -111,18 +111,11 @@ def tolerance_table(program: MotionProgram, tolerance: float, interpolation: str
     unit (name, factor from SI) is how error messages state the allowed range.
     """
     _check_interpolation(interpolation)
-    travel = stroke(program)
-    low = MIN_RELATIVE_TOLERANCE * travel
-    if not (isinstance(tolerance, (int, float)) and low <= tolerance <= travel):
-        name, factor = unit
-        raise InvalidParameter('tolerance', tolerance,
-                               f'must be in [{low * factor:.6g}, {travel * factor:.6g}] {name}: '
-                               f'from {MIN_RELATIVE_TOLERANCE:g} of the stroke to the stroke')
-    pieces = _piece_bounds(program)
+    check_tolerance(program, tolerance, unit)
+    pieces = piece_bounds(program)
     knots = [0.0]
     for start, end in zip(pieces[:-1], pieces[1:]):
-        knots += _place_knots(program, start, end, SEARCH_MARGIN * float(tolerance),
-                              interpolation)
+        knots += place_knots(program, start, end, float(tolerance), interpolation)
         if len(knots) > MAX_POINTS:
             raise InvalidParameter('tolerance', tolerance,
                                    f'needs more than {MAX_POINTS} points: choose a larger one')
@@ -140,6 +133,24 @@ def interpolate(table: CamTable, theta: FloatArray) -> FloatArray:
     return _polynomial(coefficients, (theta - start) / span, span)[0]
 
 
+def check_tolerance(program: MotionProgram, tolerance: float,
+                    unit: tuple[str, float] = ('m or rad', 1.0)) -> None:
+    """Raise unless tolerance lies between MIN_RELATIVE_TOLERANCE of the stroke and the stroke."""
+    travel = stroke(program)
+    low = MIN_RELATIVE_TOLERANCE * travel
+    if not (isinstance(tolerance, (int, float)) and low <= tolerance <= travel):
+        name, factor = unit
+        raise InvalidParameter('tolerance', tolerance,
+                               f'must be in [{low * factor:.6g}, {travel * factor:.6g}] {name}: '
+                               f'from {MIN_RELATIVE_TOLERANCE:g} of the stroke to the stroke')
+
+
+def interval_errors(program: MotionProgram, start: FloatArray, end: FloatArray,
+                    interpolation: str) -> FloatArray:
+    """Return the refined worst |s - p| on each interval [start, end] (rad) of an interpolant p."""
+    return _errors(program, start, end, interpolation, CHECK_SAMPLES)
+
+
 def _check_interpolation(interpolation: str) -> None:
     if interpolation not in INTERPOLATIONS:
         raise InvalidParameter('interpolation', interpolation,
@@ -151,12 +162,12 @@ def _table(program: MotionProgram, master_deg: FloatArray, interpolation: str,
     """Evaluate the program at the knots and check the interpolation on every interval."""
     angle = np.radians(master_deg)
     values = program.evaluate(angle)
-    errors = _errors(program, angle[:-1], angle[1:], interpolation, CHECK_SAMPLES)
+    errors = interval_errors(program, angle[:-1], angle[1:], interpolation)
     return CamTable(master_deg, values.s, values.ds, values.d2s, interpolation,
                     float(errors.max()), tolerance)
 
 
-def _piece_bounds(program: MotionProgram) -> FloatArray:
+def piece_bounds(program: MotionProgram) -> FloatArray:
     """Return 0, the segment boundaries in (0, 2 pi) and 2 pi: the knots every table keeps."""
     starts = np.sort(np.mod([segment.start for segment in program.segments], TWO_PI))
     inner = starts[(starts > BOUNDARY_MERGE) & (starts < TWO_PI - BOUNDARY_MERGE)]
@@ -165,9 +176,13 @@ def _piece_bounds(program: MotionProgram) -> FloatArray:
     return np.concatenate(([0.0], inner, [TWO_PI]))
 
 
-def _place_knots(program: MotionProgram, start: float, end: float, target: float,
-                 interpolation: str) -> list[float]:
-    """Return the knots after start up to end: each the farthest whose interval meets target."""
+def place_knots(program: MotionProgram, start: float, end: float, tolerance: float,
+                interpolation: str) -> list[float]:
+    """Return the knots after start up to end: each the farthest whose interval meets tolerance.
+
+    Placed for SEARCH_MARGIN of the tolerance, so that the final check stays within it.
+    """
+    target = SEARCH_MARGIN * tolerance
     knots: list[float] = []
     here = start
     resolution = SEARCH_RESOLUTION * (end - start)
