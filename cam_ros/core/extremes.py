@@ -299,7 +299,8 @@ def refine_roots(func: Func, theta: npt.ArrayLike, values: npt.ArrayLike, *,
     f_ends = _call(func, np.concatenate((a, b)))
     fa, fb = f_ends[:a.size], f_ends[a.size:]
     inside = fa * fb < 0.0
-    across = (fb[:-1] * fa[1:] < 0.0) & (a[1:] - b[:-1] <= 2.0 * gap * (1.0 + 1e-9) + _EPS)
+    across = (fb[:-1] * fa[1:] < 0.0) & (  # the two sides of one break, each a gap off it
+        a[1:] - b[:-1] <= 2.0 * gap * (1.0 + 1e-9) + 4.0 * np.spacing(np.abs(b[:-1])) + _EPS)
     jumps = _nearest(cuts, 0.5 * (b[:-1] + a[1:])[across])
     low, high, f_low = a[inside], b[inside], fa[inside]
     width = float(np.max(high - low)) if low.size else 0.0

@@ -75,10 +75,10 @@ class MachineConfig:
 
     def axis(self, name: str) -> CamConfig:
         """Return the config of the axis called name."""
-        return self.axes[_index(self.names, name)]
+        return self.axes[axis_index(self.names, name)]
 
 
-def _index(names: tuple[str, ...], name: str) -> int:
+def axis_index(names: tuple[str, ...], name: str) -> int:
     """Return where name is in names, else raise naming the axes."""
     if name not in names:
         raise InvalidParameter('axis', name, f'is not an axis of the machine (axes: '

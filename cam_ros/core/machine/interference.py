@@ -115,8 +115,8 @@ def _zone(y: Position, level: float, theta: FloatArray, breaks: FloatArray) -> A
         return y(angles) - level
     roots = refine_roots(above, theta, above(theta), breaks=breaks)
     if roots.size == 0:
-        inside = bool(above(np.zeros(1))[0] > 0.0)
-        return np.zeros(int(inside)), np.full(int(inside), TWO_PI)
+        always = int(above(np.zeros(1))[0] > 0.0)
+        return np.zeros(always), np.full(always, TWO_PI)
     following = np.concatenate((roots[1:], roots[:1] + TWO_PI))
     inside = above(0.5 * (roots + following)) > 0.0  # each arc between two crossings
     if inside.all():  # y touches the level without going below it

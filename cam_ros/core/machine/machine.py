@@ -20,7 +20,7 @@ from ..design import CamDesign
 from ..design_from_config import build_design
 from ..ecam.master import ElectronicCam, MasterConfig, Setpoints
 from ..errors import InvalidParameter
-from .config import _index, axis_error, MachineConfig, parse_machine
+from .config import axis_index, axis_error, MachineConfig, parse_machine
 
 
 @dataclass(frozen=True)
@@ -41,7 +41,7 @@ class Machine:
 
     def axis(self, name: str) -> Axis:
         """Return the axis called name."""
-        return self.axes[_index(self.config.names, name)]
+        return self.axes[axis_index(self.config.names, name)]
 
     def positions(self, theta: npt.ArrayLike) -> np.ndarray:
         """Return what each axis is commanded at machine angles theta (rad), SI.
