@@ -29,8 +29,7 @@ import numpy as np
 from ..arrays import FloatArray
 from ..cam_angles import TWO_PI
 from ..errors import InvalidParameter
-from ..motion._polynomial import PolynomialShape
-from ..motion.laws import ConstantVelocity, Dwell
+from ..motion.laws import ConstantVelocity, Dwell, PolynomialShape
 from ..motion.program import MotionProgram
 from ..motion.segment import Segment
 from .cam_table import (BOUNDARY_MERGE, check_tolerance, interval_errors, MAX_POINTS,
