@@ -111,8 +111,15 @@ def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: s
     return parser
 
 
+def _axis_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument('--axis', default=None, metavar='NAME',
+                        help='a machine file (with axes): take this axis alone, as a single '
+                             'cam over its own cam angle')
+
+
 def _design_commands(sub: argparse._SubParsersAction) -> None:
-    config_help = 'cam config: a ROS 2 parameters file (e.g. config/default.yaml)'
+    config_help = ('cam config: a ROS 2 parameters file (e.g. config/default.yaml), or a '
+                   'machine file (with axes, e.g. config/machine.yaml)')
     parser = _command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
                       'Pressure angle, radius of curvature, undercut, smallest base radius, '
                       'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
@@ -120,6 +127,7 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--json', dest='json_output', action='store_true',
                         help='print one JSON object instead of text')
+    _axis_option(parser)
 
     parser = _command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
                       'Arrays over one revolution from 0: angle (rad), position, velocity, '
@@ -134,6 +142,7 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                       help='print one JSON object of arrays (with units)')
     form.add_argument('--csv', dest='csv_output', action='store_true',
                       help='print CSV with units in the header')
+    _axis_option(parser)
 
     parser = _command(sub, 'plot', 'cam_ros.commands.design:plot', 'Plot a cam design',
                       'S-V-A-J diagrams over cam angle and a drawing of the cam (surface, '
@@ -148,6 +157,11 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='draw the follower train instead: residual-vibration spectrum of '
                              'each moving segment\'s law over r = 0.5..10 with this design\'s '
                              'operating points, and the periodic output against s')
+    _axis_option(parser)
+    parser.add_argument('--timing-diagram', action='store_true',
+                        help='a machine file: every axis over one machine cycle (each in its '
+                             'own unit), the switch tracks, every collision or too small a '
+                             'margin shaded')
 
     parser = _command(sub, 'export', 'cam_ros.commands.design:export',
                       'Export the cam surface for manufacturing, a cutter path, or a cam table '

@@ -10,7 +10,8 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
-from cam_ros.core import CamDesign, InvalidParameter, build_design, load_config
+from cam_ros.core import (build_design, CamDesign, InvalidParameter, parse_parameters,
+                          read_parameters_file)
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 
 #: The dynamics arrays `sample` and `call` add for a design with dynamics: (name, field, unit).
@@ -34,9 +35,25 @@ def positive_quantity(option: str, text: str, design: CamDesign, angular: bool =
     return value
 
 
-def load_design(config: str | Path) -> CamDesign:
-    """Read, check and build the design of a config file (raises InvalidParameter)."""
-    return build_design(load_config(config))
+def load_design(config: str | Path, axis: str | None = None) -> CamDesign:
+    """Read, check and build the design of a config file, or of axis of a machine file.
+
+    A machine file without axis is refused (the command takes one cam), as is an axis of a
+    single-cam file; raises InvalidParameter.
+    """
+    from cam_ros.core.machine import build_machine, is_machine, parse_machine
+
+    values = read_parameters_file(config)
+    if not is_machine(values):
+        if axis is not None:
+            raise InvalidParameter('--axis', axis, f'applies to machine files (with axes): '
+                                                   f'{config} is one cam')
+        return build_design(parse_parameters(values))
+    if axis is None:
+        raise InvalidParameter('axes', values['axes'], f'{config} is a machine file: this takes '
+                               'one cam: give --axis NAME (or --timing-diagram for the whole '
+                               'machine)')
+    return build_machine(parse_machine(values)).axis(axis).design
 
 
 def say(command: str, message: str) -> None:

@@ -40,13 +40,19 @@ SAMPLE_FIELDS = (
 
 # ------------------------------------------------------------------------------------ report
 
-def report(config: str, json_output: bool = False) -> int:
-    """Print the design report of a config; 1 if the design violates a limit."""
-    design = load_design(config)
+def report(config: str, json_output: bool = False, axis: str | None = None) -> int:
+    """Print the design report of a config (or of a machine); 1 if it violates a limit."""
+    from cam_ros.commands import machine
+
+    if axis is None and machine.is_machine_file(config):
+        return machine.report(config, json_output)
+    design = load_design(config, axis)
     progress('report', 'sizing the base radius')
     result = design_report(design)
     end_progress()
-    print(dump_json(report_data(result, config)) if json_output else format_report(result, config))
+    label = config if axis is None else f'{config}, axis {axis}'
+    print(dump_json({**({} if axis is None else {'name': axis}), **report_data(result, config)})
+          if json_output else format_report(result, label))
     return EXIT_OK if result.ok else EXIT_FAILED
 
 
@@ -66,10 +72,19 @@ def sample_units(design: CamDesign) -> dict[str, str]:
     return {name: template.format(p=unit) for name, _, template in fields}
 
 
+def csv_column(name: str, unit: str) -> str:
+    """Return a CSV column name with its unit: velocity, m/s -> velocity_m_per_s."""
+    return f'{name}_{unit}'.replace('/', '_per_').replace('^', '')
+
+
 def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
-           csv_output: bool = False) -> int:
-    """Print the design sampled every step_deg degrees (table, JSON or CSV)."""
-    design = load_design(config)
+           csv_output: bool = False, axis: str | None = None) -> int:
+    """Print the design (or a machine's axes) sampled every step_deg degrees."""
+    from cam_ros.commands import machine
+
+    if axis is None and machine.is_machine_file(config):
+        return machine.sample(config, sample_angles(step_deg), json_output, csv_output)
+    design = load_design(config, axis)
     state = design.evaluate(sample_angles(step_deg))
     units = sample_units(design)
     columns = {name: getattr(state, field) for name, field, _ in SAMPLE_FIELDS}
@@ -80,8 +95,7 @@ def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
         print(dump_json({'config': str(config), 'units': units, **columns}))
     elif csv_output:
         writer = csv.writer(sys.stdout, lineterminator='\n')
-        writer.writerow(f'{name}_{unit}'.replace('/', '_per_').replace('^', '')
-                        for name, unit in units.items())
+        writer.writerow(csv_column(name, unit) for name, unit in units.items())
         writer.writerows(np.column_stack(list(columns.values())).tolist())
     else:
         headers = [f'{name} ({units[name]})' for name in columns]
@@ -93,20 +107,34 @@ def sample(config: str, step_deg: float = 1.0, json_output: bool = False,
 
 # ------------------------------------------------------------------------------------ plot/export
 
-def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = False) -> int:
-    """Draw S-V-A-J diagrams and the cam at angle_deg (or the vibration figures) to a file."""
+def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = False,
+         axis: str | None = None, timing_diagram: bool = False) -> int:
+    """Draw S-V-A-J diagrams and the cam at angle_deg (or the vibration figures) to a file.
+
+    With timing_diagram: every axis of a machine file over one machine cycle.
+    """
     from cam_ros.output.plot import FORMATS, plot_design
     from cam_ros.output.vibration_plot import plot_vibration
 
+    if timing_diagram:
+        from cam_ros.commands.machine import plot_timing_diagram
+
+        for option, value in (('--axis', axis), ('--vibration', vibration or None),
+                              ('--angle-deg', angle_deg or None)):
+            if value is not None:
+                raise InvalidParameter(option, value, 'cannot go with --timing-diagram (it '
+                                                      'draws every axis over the cycle)')
+        return plot_timing_diagram(config, output)
     target = output_path('-o', output, FORMATS)
     if not math.isfinite(angle_deg):
         raise InvalidParameter('--angle-deg', angle_deg, 'must be a finite angle (deg)')
-    design = load_design(config)
+    design = load_design(config, axis)
+    title = Path(config).name + ('' if axis is None else f', axis {axis}')
     with writing('plot', f'drawing {target}', target):
         if vibration:
-            plot_vibration(design, target, title=Path(config).name)
+            plot_vibration(design, target, title=title)
         else:
-            plot_design(design, target, math.radians(angle_deg), title=Path(config).name)
+            plot_design(design, target, math.radians(angle_deg), title=title)
     print(f'wrote {target}')
     return verdict('plot', design)
 
