@@ -6,9 +6,10 @@ gap of each clearance pair in the machine's length_unit with its limit, and the 
 (switches.*, on the machine angle) as bars. Every pair that collides (check_interference's
 verdict) is shaded on its axes' panels: red where it collides (a clearance gap below its
 min_clearance, both axes in their zones), orange where the machine angle from one leaving
-the zone to the other entering is below min_margin; the legend quotes the pair's refined
-figure (a smallest gap or margin rounded down). The shading is found on the drawing's grid of
-DIAGRAM_SAMPLES angles per cycle.
+the zone to the other entering is below min_margin (the min_margin after the one leaving,
+with the other's entry inside it); the legend quotes the pair's refined figure (a smallest
+gap or margin rounded down). The shading is found on the drawing's grid of DIAGRAM_SAMPLES
+angles per cycle.
 
 Uses matplotlib's object API (Figure + Agg canvas), never pyplot, as plot.py does.
 """
@@ -39,6 +40,9 @@ FIGURE_WIDTH_IN = 13.0
 COLLISION = 'tab:red'
 NEAR_MISS = 'tab:orange'
 SHADE_ALPHA = 0.25
+#: Colours of the axes' curves: none red or orange, the colours of conflicts.
+CURVES = ('tab:blue', 'tab:green', 'tab:purple', 'tab:brown', 'tab:cyan', 'tab:olive',
+          'tab:pink', 'tab:gray')
 #: Hatches telling apart the conflicts of different pairs on one panel (by pair index).
 HATCHES = ('//', '\\\\', 'xx', '..', '++')
 
@@ -95,7 +99,7 @@ def conflict_spans(machine: Machine, check: PairCheck, theta: np.ndarray
     """Return (start_deg, end_deg, colour) of where a pair collides or its margin is short.
 
     Clearance: where the gap is below min_clearance. Zones: where both axes are in their zone
-    (collision), and every arc from one leaving to the other entering shorter than min_margin.
+    (collision), and the min_margin after one leaves wherever the other enters within it.
     """
     pair, names = check.pair, machine.config.names
     positions = checked_positions(machine, theta)
@@ -111,8 +115,8 @@ def conflict_spans(machine: Machine, check: PairCheck, theta: np.ndarray
         left = degrees[np.flatnonzero(~leaving & np.roll(leaving, 1))]
         entered = degrees[np.flatnonzero(entering & ~np.roll(entering, 1))]
         apart = np.mod(entered[np.newaxis, :] - left[:, np.newaxis], 360.0)
-        for row, column in zip(*np.nonzero(apart < margin)):
-            spans += [(a, b, NEAR_MISS) for a, b in _cyclic_span(left[row], apart[row, column])]
+        for row in np.flatnonzero((apart < margin).any(axis=1)):
+            spans += [(a, b, NEAR_MISS) for a, b in _cyclic_span(left[row], margin)]
     return spans
 
 
@@ -158,7 +162,7 @@ def _draw_axes(machine: Machine, panels: list[Axes], theta: np.ndarray) -> None:
             wraps = np.flatnonzero(np.abs(np.diff(values)) > 180.0) + 1
             values, x = np.insert(values, wraps, np.nan), np.insert(x, wraps, np.nan)
             unit += ', mod 360'
-        ax.plot(x, values, color=f'C{index}', linewidth=1.4)
+        ax.plot(x, values, color=CURVES[index % len(CURVES)], linewidth=1.4)
         ax.set_ylabel(f'{axis.name}\n({unit})', fontsize=9)
 
 
@@ -207,7 +211,7 @@ def _shade(machine: Machine, check: PairCheck, own: list[Axes], theta: np.ndarra
     pair = check.pair
     name = f'{pair.axis_a}-{pair.axis_b}'
     kinds = {COLLISION: f'{name}: gap < min_clearance' if pair.type == 'clearance'
-             else f'{name}: both in the zone', NEAR_MISS: f'{name}: margin < min_margin'}
+             else f'{name}: both in the zone', NEAR_MISS: f'{name}: enters within min_margin'}
     labelled: set[tuple[int, str]] = set()
     for start, end, colour in conflict_spans(machine, check, theta):
         for number, ax in enumerate(own):
@@ -223,7 +227,7 @@ def _draw_switches(machine: Machine, ax: Axes) -> None:
     table = switch_table(machine.config.parameters)
     for row, (on, off) in enumerate(zip(np.degrees(table.on), np.degrees(table.off))):
         spans = _cyclic_span(on, (off - on) % 360.0)
-        ax.broken_barh([(a, b - a) for a, b in spans], (row - 0.35, 0.7), color=f'C{row % 10}',
+        ax.broken_barh([(a, b - a) for a, b in spans], (row - 0.35, 0.7), color='0.45',
                        alpha=0.8)
     ax.set_yticks(range(len(table.names)), table.names, fontsize=8)
     ax.set_ylim(len(table.names) - 0.5, -0.5)

@@ -92,7 +92,7 @@ def test_a_gap_below_its_limit_is_shaded_where_it_is(tmp_path):
     assert 'COLLIDES' in axes[0].get_legend().get_texts()[0].get_text()
 
 
-def test_a_short_margin_is_shaded_from_one_leaving_to_the_other_entering(tmp_path, capsys):
+def test_a_short_margin_shades_the_min_margin_after_one_leaving(tmp_path, capsys):
     path = shifted(tmp_path, -70.0)
     _, axes = figure_of(path)
     (jaw_in,), _ = crossings(lambda q: coupled(q, jaw_s, -70.0 * DEG) - 0.06, Q)
@@ -103,7 +103,7 @@ def test_a_short_margin_is_shaded_from_one_leaving_to_the_other_entering(tmp_pat
     for ax in (axes[1], axes[2]):
         ((start, end),) = spans(ax, NEAR_MISS)
         assert abs(start - knife_out) <= GRID_DEG
-        assert abs(end - math.degrees(jaw_in)) <= GRID_DEG
+        assert abs(end - (knife_out + 20.0)) <= GRID_DEG  # the min_margin the jaw enters in
         assert spans(ax, COLLISION) == []
     run = run_cli(capsys, 'plot', path, '--timing-diagram', '-o', tmp_path / 'near.svg')
     assert run.code == 1
