@@ -198,11 +198,12 @@ def wait_for_answer(client: object, request: object, process: NodeProcess) -> No
             raise AssertionError(f'no answer from {client.srv_name}:\n{process.log()}')
 
 
-def matched_client(node: object, process: NodeProcess, name: str = 'cam') -> object:
+def matched_client(node: object, process: NodeProcess, name: str = 'cam',
+                   evaluate: str = 'evaluate') -> object:
     """Return a new EvaluateCam client of node that the cam node has answered once."""
     from cam_ros_interfaces.srv import EvaluateCam
 
-    client = node.create_client(EvaluateCam, f'/{name}/evaluate')
+    client = node.create_client(EvaluateCam, f'/{name}/{evaluate}')
     wait_for_service(client, process, SERVICE_TIMEOUT_S)
     wait_for_answer(client, EvaluateCam.Request(angles=[0.0]), process)
     return client
@@ -212,14 +213,15 @@ def matched_client(node: object, process: NodeProcess, name: str = 'cam') -> obj
 def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor):
     """Start `cam_node` as a subprocess on a params file and wait for its evaluate service.
 
-    Returns a function ``start(params_file, *ros_args, name='cam') -> (NodeProcess, client)``;
+    Returns a function ``start(params_file, *ros_args, name='cam', evaluate='evaluate') ->
+    (NodeProcess, client)``, the client of /<name>/<evaluate> (a machine's: '<axis>/evaluate');
     every process it started is stopped at teardown.
     """
     with ExitStack() as stack:
         client_node = executor.node('test_client')
 
         def start(params_file: Path | str = CONFIG_DIR / 'default.yaml', *ros_args: str,
-                  name: str = 'cam'):
+                  name: str = 'cam', evaluate: str = 'evaluate'):
             log_path = tmp_path / f'{name}-{time.monotonic_ns()}.log'
             log_file = stack.enter_context(open(log_path, 'wb'))
             command = [sys.executable, '-m', 'cam_ros.node', '--ros-args', '-r', f'__node:={name}',
@@ -228,7 +230,7 @@ def start_cam_node(ros_domain: int, tmp_path: Path, executor: BackgroundExecutor
                 subprocess.Popen(command, stdout=log_file, stderr=subprocess.STDOUT, cwd=tmp_path),
                 log_path)
             stack.callback(_reap, process)
-            return process, matched_client(client_node, process, name)
+            return process, matched_client(client_node, process, name, evaluate)
 
         yield start
 

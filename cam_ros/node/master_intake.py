@@ -22,7 +22,8 @@ from cam_ros.node.own_thread import OwnThread
 #: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
 #: and a reliable one alike; a reliable subscription would never hear the former.
 MASTER_QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
-#: Parameters that wire the node to the graph: fixed once the node runs.
+#: Parameters that wire the node to the graph: fixed once the node runs (an axis's
+#: <axis>.slave.state_topic too).
 WIRING = ('master.source', 'master.topic', 'master.joint', 'slave.state_topic')
 
 
@@ -35,7 +36,9 @@ def refuse_rewiring(node: Node) -> None:
     """Make the node refuse updates of the WIRING parameters (they need a restart)."""
     def check(updates: list[Parameter]) -> SetParametersResult:
         for param in updates:
-            if param.name in WIRING and param.value != node.get_parameter(param.name).value:
+            wiring = param.name in WIRING or param.name.endswith(
+                tuple(f'.{name}' for name in WIRING))
+            if wiring and param.value != node.get_parameter(param.name).value:
                 return SetParametersResult(successful=False, reason=(
                     f'{param.name} = {param.value!r}: is fixed while the node runs (now '
                     f'{node.get_parameter(param.name).value!r}); restart the node to change it'))

@@ -24,8 +24,7 @@ import rclpy
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core.config.parameters import (PARAMETERS, REQUIRED, ROS_NODE_PARAMETERS,
-                                            ParameterSpec)
+from cam_ros.core.config.parameters import ParameterSpec, REQUIRED, ROS_NODE_PARAMETERS
 from cam_ros.core.config.params_file import parse_yaml, read_parameters_file
 from cam_ros.rclpy_gaps import RCLError
 
@@ -45,11 +44,14 @@ PARAMETER_FLAGS = {'-p', '--param', '--params-file'}
 RECORDING_SWITCH = 'recording.enabled'
 
 
-def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
-    """Turn a config-format parameter spec into a (dynamically typed) ROS descriptor."""
+def descriptor(spec: ParameterSpec, name: str | None = None) -> ParameterDescriptor:
+    """Turn a config-format parameter spec into a (dynamically typed) ROS descriptor.
+
+    name: the parameter's full name (an axis's, prefixed), by default the spec's.
+    """
     unit = f' [{spec.unit}]' if spec.unit else ''
     choices = f' One of: {", ".join(spec.choices)}.' if spec.choices else ''
-    result = ParameterDescriptor(name=spec.name, type=ROS_TYPES[spec.type],
+    result = ParameterDescriptor(name=name or spec.name, type=ROS_TYPES[spec.type],
                                  description=f'{spec.description}{unit}. Type: {spec.type}.'
                                              f'{choices}',
                                  read_only=spec.read_only, dynamic_typing=True)
@@ -63,13 +65,15 @@ def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
     return result
 
 
-def declared_value(spec: ParameterSpec, values: Mapping[str, Any]) -> Any:
-    """Return the value to declare: the one given, else the default.
+def declared_value(spec: ParameterSpec, values: Mapping[str, Any],
+                   name: str | None = None) -> Any:
+    """Return the value to declare for name (by default the spec's): the one given, else the
+    default.
 
     None (unset) where there is neither, or for an empty list, which rclpy would take for a
     byte array; the core reads an unset array as empty.
     """
-    value = values.get(spec.name, spec.default)
+    value = values.get(name or spec.name, spec.default)
     return None if value is REQUIRED or (isinstance(value, list) and not value) else value
 
 
@@ -78,19 +82,21 @@ def plain(value: Any) -> Any:
     return list(value) if isinstance(value, (list, tuple, array.array)) else value
 
 
-def reload_parameters(values: Mapping[str, Any], current: Mapping[str, Any]) -> list[Parameter]:
-    """Return the cam parameters a reload changes, typed as declared.
+def reload_parameters(values: Mapping[str, Any], current: Mapping[str, Any],
+                      specs: Mapping[str, ParameterSpec]) -> list[Parameter]:
+    """Return the declared parameters (specs, by full name) a reload changes, typed as declared.
 
     values are the sources' (defaults for the rest), current the node's (absent where unset).
     Only real changes are returned: not a value equal to the current one, not an empty array for
     one that is unset, and not RECORDING_SWITCH, which a params file sets at start-up only (a
     reload leaves a running recording alone).
     """
-    return [Parameter(spec.name, Parameter.Type(ROS_TYPES[spec.type]), value)
-            for spec, value in ((spec, values.get(spec.name, spec.default)) for spec in PARAMETERS
-                                if spec.name in values or spec.default is not REQUIRED)
-            if spec.name != RECORDING_SWITCH
-            and value != current.get(spec.name, [] if isinstance(value, list) else None)]
+    return [Parameter(name, Parameter.Type(ROS_TYPES[spec.type]), value)
+            for name, spec, value in ((name, spec, values.get(name, spec.default))
+                                      for name, spec in specs.items()
+                                      if name in values or spec.default is not REQUIRED)
+            if name != RECORDING_SWITCH
+            and value != current.get(name, [] if isinstance(value, list) else None)]
 
 
 def split_rule(rule: str) -> tuple[str, str, str]:
@@ -221,7 +227,9 @@ def parameter_sources(params: ParameterSources | Path | str | None,
 USAGE = '''\
 usage: cam_node [-h] [--ros-args [--params-file FILE]... [-p NAME:=VALUE]... [ROS_ARG]...]
 
-Serve one cam design to ROS 2 (SI units; docs/ros-interface.md has the details).
+Serve a cam design, or a machine of cam axes, to ROS 2 (SI units; docs/ros-interface.md
+has the details). A machine file (with axes) serves each axis's services and latched topics
+under its name (~/<axis>/evaluate, ~/<axis>/profile, ...) and one master path for all.
 
 services:
   ~/evaluate          cam_ros_interfaces/EvaluateCam: motion, geometry, dynamics at angles
@@ -234,16 +242,20 @@ topics (published):
   ~/markers           visualization_msgs/MarkerArray, latched: the cam's outlines
   ~/dynamics          std_msgs/Float64MultiArray, latched: contact force, camshaft
                       torque, contact stress (empty without dynamics)
-  ~/joint_states      sensor_msgs/JointState: joints cam and follower at state_rate_hz
+  ~/joint_states      sensor_msgs/JointState: joint cam and each axis's (follower for
+                      a single cam) at state_rate_hz
   ~/state_extras      geometry_msgs/Vector3Stamped: acceleration, jerk, pressure angle
 
 electronic cam (master.source: topic): the master drives ~/joint_states (one per
 master message) instead of the clock, ~/state_extras stays silent, and
   ~/master            sensor_msgs/JointState, subscribed (name: master.topic): the master
-  ~/commands          std_msgs/Float64MultiArray: the follower's position or velocity
+  ~/commands          std_msgs/Float64MultiArray: each axis's position or velocity
   ~/joint_trajectory  trajectory_msgs/JointTrajectory: with command.trajectory_horizon > 0
   ~/engage            std_srvs/SetBool: engage the slave on the cam (false: hold)
   ~/switches          std_msgs/UInt32, latched: cam switch tracks, bit i = track i
+  ~/switch_state      cam_ros_interfaces/SwitchState, latched: the same bits, stamped
+                      with the master message's stamp and its position
+  ~/engage_requests   cam_ros_interfaces/EngageRequest, latched: each answered ~/engage
   ~/state             diagnostic_msgs/DiagnosticStatus, latched: engaged, holding, end
                       of profile..., and the switch tracks
   /diagnostics        diagnostic_msgs/DiagnosticArray, about 1 Hz: design, master,

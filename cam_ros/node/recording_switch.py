@@ -2,24 +2,36 @@
 
 Either side of the switch starts or stops the recording and the other follows, so
 ``recording.enabled`` says whether the node records. Every start and stop is logged with its
-cause; a recording carries the parameters in force, the params file and the design's summary.
+cause; a recording carries the parameters in force, the params file and the designs' summary.
 """
 from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Mapping, NamedTuple, Sequence
 
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.publisher import Publisher
 
-from cam_ros.core import CamDesign, CamError
+from cam_ros.core import CamConfig, CamError
 from cam_ros.node.master_follower import MasterFollower
 from cam_ros.node.parameters import RECORDING_SWITCH
 from cam_ros.recording import (CONFIG_ATTACHMENT, PARAMETER_EVENTS, PARAMETERS_ATTACHMENT,
                                params_file, Recorder, TopicSpec)
 from cam_ros.recording.parameters import NODE_KEY
+
+
+class Served(NamedTuple):
+    """What a recording carries of what the node serves.
+
+    config gives the recording.* settings; parameters are those in force; summary describes
+    the designs.
+    """
+
+    config: CamConfig
+    parameters: Mapping[str, Any]
+    summary: str
 
 
 class NodeRecording:
@@ -34,34 +46,34 @@ class NodeRecording:
                             ecam.topics() if ecam else [])
         self.recorder: Recorder | None = None
 
-    def start_up(self, design: CamDesign) -> None:
-        """Start recording if the design's recording.enabled is true (once the node is built)."""
-        if design.config.recording_enabled:
-            self.switch(True, f'{RECORDING_SWITCH} true at start-up', design)
+    def start_up(self, served: Served) -> None:
+        """Start recording if recording.enabled is true (once the node is built)."""
+        if served.config.recording_enabled:
+            self.switch(True, f'{RECORDING_SWITCH} true at start-up', served)
 
     @property
     def running(self) -> bool:
         """Return whether a recording runs (one stopped by a write error does not)."""
         return self.recorder is not None and not self.recorder.failed
 
-    def switch(self, enabled: bool, why: str, design: CamDesign) -> tuple[bool, str]:
+    def switch(self, enabled: bool, why: str, served: Served) -> tuple[bool, str]:
         """Start or stop recording, logging why; then make recording.enabled say the outcome.
 
         The parameter and ~/record are one switch: `param get` tells whether the node records.
         """
-        answer = self._start(why, design) if enabled else self.stop(why)
+        answer = self._start(why, served) if enabled else self.stop(why)
         if self._node.get_parameter(RECORDING_SWITCH).value != self.running:
             # after ~/record or a failed start; follow() then finds nothing to switch
             self._node.set_parameters([Parameter(RECORDING_SWITCH, Parameter.Type.BOOL,
                                                  self.running)])
         return answer
 
-    def follow(self, updates: Sequence[Parameter], design: CamDesign) -> None:
+    def follow(self, updates: Sequence[Parameter], served: Served) -> None:
         """Start or stop recording as an accepted update sets recording.enabled."""
         for param in updates:
             if param.name == RECORDING_SWITCH and param.value != self.running:
                 self.switch(param.value, f'{RECORDING_SWITCH} set to '
-                                         f'{str(param.value).lower()}', design)
+                                         f'{str(param.value).lower()}', served)
 
     def stop(self, why: str) -> tuple[bool, str]:
         """Close the recording (writing its summary); log why unless a write error ended it."""
@@ -75,22 +87,22 @@ class NodeRecording:
             self._node.get_logger().info(f'recording stopped ({why}): {stopped}')
         return True, f'stopped; {stopped}'
 
-    def _start(self, why: str, design: CamDesign) -> tuple[bool, str]:
+    def _start(self, why: str, served: Served) -> tuple[bool, str]:
         """Start recording the node's topics to a new MCAP file; say what happened."""
         if self.running:
             return True, f'already recording to {self.recorder.path}'
         self.stop(why)  # release one that a write error stopped
-        config, node = design.config, self._node
+        config, node = served.config, self._node
         stamp = time.strftime('%Y%m%d-%H%M%S')
         path = Path(config.recording_directory) / f'{node.get_name()}_{stamp}.mcap'
         name = node.get_fully_qualified_name()
-        in_force = {**config.parameters, RECORDING_SWITCH: True}  # on while it records
+        in_force = {**served.parameters, RECORDING_SWITCH: True}  # on while it records
         attachments = {PARAMETERS_ATTACHMENT: params_file(
             in_force, f'Parameters of {name} in force when recording {path.name} began')}
         if self._params_file and self._params_file.exists():
             attachments[CONFIG_ATTACHMENT] = self._params_file.read_text()
         description = {'params_file': str(self._params_file or ''), NODE_KEY: name,
-                       'design': design.summary()}
+                       'design': served.summary}
         try:
             self.recorder = Recorder(node, path, self._topics,
                                      compression=config.recording_compression,

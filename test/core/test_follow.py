@@ -93,3 +93,16 @@ def test_an_offset_change_blends_to_the_new_offset_over_the_distance():
                                0.002 * (10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5), atol=1e-15)
     after = q - 1.0 >= DISTANCE
     np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)
+
+
+def test_after_an_offset_blend_a_master_loss_re_engages_onto_the_new_offset():
+    follower = Follower(CAM, EngageConfig(mode='immediate', distance=DISTANCE), engage=True)
+    drive(follower, [1.0])
+    moved = ElectronicCam(CAM.program, replace(CAM.mapping, slave_offset=0.002))
+    follower.change(moved, EngageConfig(distance=DISTANCE))
+    drive(follower, 1.0 + OMEGA * DT * np.arange(1, 40))
+    follower.lose()
+    q = 3.0 + OMEGA * DT * np.arange(60)
+    points, phases = drive(follower, q)
+    after = q - q[0] >= DISTANCE
+    np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)

@@ -54,6 +54,9 @@ def test_a_machine_of_one_axis_is_exactly_the_single_cam():
     wide = ('cam_speed', 'master.source', 'master.joint')
     values = {'axes': ['knife'], 'length_unit': 'mm', **{key: single[key] for key in wide},
               **{f'knife.{key}': value for key, value in single.items() if key not in wide}}
+    # A machine's cam_speed is its master's (machine angle) speed: the single cam's times the
+    # master travel per rad of cam.
+    values['cam_speed'] = single['cam_speed'] * single['master.scaling']
     config = parse_machine(values)
     alone = parse_parameters(single)
     (axis,) = config.axes  # repr: the .nan velocities compare unequal; the keys in any order

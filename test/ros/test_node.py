@@ -247,10 +247,10 @@ def test_an_internal_error_rejects_the_update_and_keeps_the_design(ros_context, 
     try:
         served = node.design
 
-        def broken(config):
+        def broken(values):
             raise ZeroDivisionError('a bug in the core')
 
-        monkeypatch.setattr(node_module, 'build_design', broken)
+        monkeypatch.setattr(node_module, 'machine_from_values', broken)
         result = node.set_parameters([Parameter('follower.base_radius', value=5.0)])[0]
         assert not result.successful
         assert result.reason == "internal error: ZeroDivisionError('a bug in the core')"

@@ -8,7 +8,7 @@ from conftest import CONFIG_DIR
 from rcl_interfaces.msg import ParameterType
 
 from cam_ros.core import InvalidParameter, read_parameters_file
-from cam_ros.core.config.parameters import PARAMETERS
+from cam_ros.core.config.parameters import PARAMETERS, SPECS
 from cam_ros.node.parameters import (declared_value, descriptor, parse_command_line,
                                      ParameterSources, reload_parameters)
 
@@ -81,12 +81,12 @@ def test_a_reload_sets_only_real_changes_and_never_the_recording_switch():
     del current['follower.base_radius']  # set nowhere, required: only ever the file's value
     assert 'motion.via_segment' not in current  # declared by type, never given a value
     changes = {param.name: param for param in reload_parameters(
-        {**given, 'follower.offset': 0.0, 'follower.base_radius': 4.0}, current)}
+        {**given, 'follower.offset': 0.0, 'follower.base_radius': 4.0}, current, SPECS)}
     assert sorted(changes) == ['follower.base_radius', 'follower.offset', 'motion.via_deg']
     assert changes['follower.offset'].value == 0.0
     assert changes['motion.via_deg'].value == []  # back to the default: a change
     assert changes['motion.via_deg'].type_.value == ParameterType.PARAMETER_DOUBLE_ARRAY
     assert reload_parameters(given, {**current, 'follower.base_radius': 4.0,
-                                     'motion.via_deg': []}) == []
+                                     'motion.via_deg': []}, SPECS) == []
     assert 'follower.base_radius' not in {
-        param.name for param in reload_parameters({}, current)}  # required: never a default
+        param.name for param in reload_parameters({}, current, SPECS)}  # required: no default

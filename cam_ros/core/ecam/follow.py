@@ -157,9 +157,10 @@ class Follower:
         if not (same or self.phase == ENGAGING):
             self.handover = Handover(self._joined(), shifted(cam, self._turns, self.limits))
             return f'pending: {self.handover.describe()}'
+        self._set_cam(cam)  # planned against the new cam's own peaks
         plan = self._plan(self._path, cam, self._last, held=False)
         if isinstance(plan, str):
-            self.cam = old
+            self._set_cam(old)
             return f'refused, the slave runs on the old cam: {plan}'
         self._path, self.phase = plan.blend, ENGAGING
         return f'blended over {math.degrees(plan.blend.distance):.6g} deg of master'

@@ -166,7 +166,11 @@ def _parse_axis(name: str, flat: Mapping[str, Any]) -> CamConfig:
     if round(cycles) < 1 or abs(cycles - round(cycles)) > WHOLE_TOLERANCE * cycles:
         raise InvalidParameter(f'{name}.master.scaling', scaling, 'must be 1 / n for a whole n '
                                '(the axis repeats n times per machine cycle)')
-    return config
+    if scaling == 1.0:
+        return config
+    # The axis's cam turns 1 / scaling times as fast as the machine: its forces, limits and
+    # speeds are those of its own cam speed (the master's stays the machine's cam_speed).
+    return parse_parameters({**flat, 'cam_speed': flat['cam_speed'] / scaling})
 
 
 def axis_error(name: str, err: InvalidParameter) -> InvalidParameter:

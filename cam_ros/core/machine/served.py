@@ -1,0 +1,97 @@
+"""
+What a node serves from its parameter values: a machine, and a single cam as a machine of one axis.
+
+One path for one axis and for many: a params file without `axes` is the single cam, served as a
+machine whose only axis is the joint `follower` and which has no interference pairs; a machine
+file's axes are its own.
+
+A running machine takes an update only if no interference pair collides, neither in the new
+machine nor on the way to it. An axis whose offset changes blends from its old cam to its new one:
+at every machine angle its position lies between the two, so a clearance gap (linear in each
+axis's position, bilinear in two blending axes) and a zone's occupancy reach their worst at a mix
+of old and new axes: every pair with a changed axis is checked with each of its axes old or new.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from itertools import product
+from typing import Any, Mapping
+
+from ..config.parameters import ParameterSpec, PARAMETERS, SPECS, UNITS
+from ..config.schema import parse_parameters
+from ..design_from_config import build_design
+from ..ecam.master import ElectronicCam, MasterConfig
+from .config import is_machine, MachineConfig, parse_machine
+from .interference import check_interference, PairCheck
+from .machine import Axis, build_machine, Machine
+from .parameters import MACHINE_SPECS, MACHINE_WIDE, PER_AXIS
+
+#: The joint (and axis name) of a single cam.
+SINGLE_AXIS = 'follower'
+
+
+def machine_from_values(values: Mapping[str, Any]) -> Machine:
+    """Return the machine a node serves from flat parameter values (see the module)."""
+    if is_machine(values):
+        return build_machine(parse_machine(values))
+    config = parse_parameters(values)
+    design = build_design(config)
+    cam = ElectronicCam(design.program, MasterConfig.from_config(config).mapping)
+    return Machine(MachineConfig((SINGLE_AXIS,), (config,), config.parameters,
+                                 config.length_unit, ()),
+                   (Axis(SINGLE_AXIS, design, cam),))
+
+
+def said(check: PairCheck, length_unit: str) -> str:
+    """Say a pair's verdict in one line: its smallest gap or margin and where."""
+    pair = check.pair
+    where = f'at machine angle {math.degrees(check.at):.3f} deg'
+    if pair.type == 'clearance':
+        unit = UNITS[length_unit]
+        figure = (f'smallest gap {check.value / unit:.6g} {length_unit} ({check.value:.6g} m), '
+                  f'limit {pair.min_clearance / unit:.6g} {length_unit}')
+    else:
+        figure = (f'smallest margin {math.degrees(check.value):.6g} deg, limit '
+                  f'{math.degrees(pair.min_margin):.6g} deg')
+    return f'interference pair {pair.axis_a}/{pair.axis_b} ({pair.type}): {figure} {where}'
+
+
+def collisions(machine: Machine) -> str:
+    """Say every pair of the machine that collides ('' if none)."""
+    return '; '.join(said(check, machine.config.length_unit)
+                     for check in check_interference(machine) if not check.ok)
+
+
+def update_refusal(old: Machine, new: Machine) -> str:
+    """Say why a running machine must not take an update ('' if it may; see the module)."""
+    changed = {name for name, before, after in zip(new.config.names, old.axes, new.axes)
+               if dict(before.design.config.parameters) != dict(after.design.config.parameters)}
+    for pair in new.config.interference:
+        names = (pair.axis_a, pair.axis_b)
+        choices = [(old, new) if name in changed else (new,) for name in names]
+        for sources in product(*choices):
+            axes = {name: source.axis(name) for name, source in zip(names, sources)}
+            config = replace(new.config, names=names, interference=(pair,),
+                             axes=tuple(axes[name].design.config for name in names))
+            check = check_interference(Machine(config, tuple(axes.values())))[0]
+            if not check.ok:
+                mix = ', '.join(f'{name} {"new" if source is new else "as now"}'
+                                for name, source in zip(names, sources) if name in changed)
+                return f'{said(check, new.config.length_unit)} ({mix})'
+    return ''
+
+
+def served_specs(values: Mapping[str, Any]) -> dict[str, ParameterSpec]:
+    """Return the parameters a node declares for values, by full name, in a stable order.
+
+    A single cam's are the cam format's; a machine's are its machine-wide ones, its own (axes,
+    length_unit, interference.*) and every per-axis one under each axis's prefix.
+    """
+    if not is_machine(values):
+        return {spec.name: spec for spec in PARAMETERS}
+    specs = {name: SPECS[name] for name in MACHINE_WIDE if name != 'length_unit'}
+    specs.update(MACHINE_SPECS)
+    for axis in parse_machine(values).names:
+        specs.update({f'{axis}.{name}': SPECS[name] for name in PER_AXIS})
+    return specs

@@ -1,0 +1,120 @@
+"""A real cam_node serving config/machine.yaml: three axes on one master, one message for all.
+
+Every command is checked against the MC_CamIn coupling written out here (cam angle
+((q - q0) / m) mod 2 pi, slave k s + y0, s from the axis's own program), a phase shift of the
+knife blends from its old coupling to its new one, one of the jaw that would make the jaw meet the
+knife's zone is refused by name and changes nothing, and after a master loss every axis holds
+and then ramps back onto its cam.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from conftest import CONFIG_DIR
+from ecam_support import constant_speed, MasterLink
+from rclpy.parameter import Parameter
+from test_node import set_parameters
+from test_node_evaluate import call
+
+from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.core.config.parameters import UNITS
+
+MACHINE = CONFIG_DIR / 'machine.yaml'
+NAMES = ('feeder', 'knife', 'jaw')
+DT = 0.002  # 500 Hz
+START_NS = 4_000 * 10 ** 9
+TIMEOUT_S = 1.0  # longer than the probes take: the stream starts on the cam
+
+
+def axis_values(values, name, **changes):
+    """Return one axis's single-cam values from the machine file (written out, not the core's)."""
+    flat = {key.partition('.')[2]: value for key, value in values.items()
+            if key.startswith(f'{name}.')}
+    flat.update({key: values[key] for key in ('cam_speed', 'master.source')})
+    flat.update(changes)
+    return flat
+
+
+def coupled(values, name, q, **changes):
+    """Return the axis's commanded position (SI) at master positions q: MC_CamIn by hand."""
+    flat = axis_values(values, name, **changes)
+    program = build_design(parse_parameters(flat)).program
+    q0 = math.radians(flat.get('master.offset_deg', 0.0))
+    m = flat.get('master.scaling', 1.0)
+    unit = UNITS[flat['length_unit']]
+    y0, k = flat.get('slave.offset', 0.0) * unit, flat.get('slave.scaling', 1.0)
+    turns = (np.asarray(q) - q0) / m  # an advancing program adds its advance per whole turn
+    return k * program.evaluate(turns).s + y0
+
+
+def commands(link, messages):
+    """Return the ~/commands answering messages (rows: messages; columns: axes)."""
+    link.answers(messages)
+    return np.array([list(m.data) for m in link.messages('commands')[-len(messages):]])
+
+
+def test_a_machine_node_commands_every_axis_from_one_master(start_cam_node, executor):
+    process, knife_client = start_cam_node(MACHINE, '-p', 'master.joint:=cam', '-p',
+                                           f'master.timeout:={TIMEOUT_S}',
+                                           evaluate='knife/evaluate')
+    values = read_parameters_file(MACHINE)
+    speed = values['cam_speed']  # rad/s of machine angle
+    link = MasterLink(executor)
+    link.connect(process)
+    joints = link.messages('joints')[-1]
+    assert list(joints.name) == ['cam', *NAMES]
+
+    # A cycle and a half at 100 products/min: every axis on its coupling, exactly.
+    q, stream = constant_speed(START_NS, 0.0, speed, 900, DT)
+    link.send(stream)
+    got = commands(link, stream)
+    assert got.shape == (900, 3)
+    for column, name in enumerate(NAMES):
+        np.testing.assert_allclose(got[:, column], coupled(values, name, q), rtol=0, atol=1e-12)
+
+    # Each axis's ~/<axis>/evaluate serves its own design.
+    knife = build_design(parse_parameters(axis_values(values, 'knife')))
+    answer = call(knife_client, [0.5, 2.0])
+    np.testing.assert_array_equal(answer.position, knife.evaluate(np.array([0.5, 2.0])).position)
+
+    # A knife phase shift of -5 deg blends over the engage distance; then the new coupling.
+    result = set_parameters(executor, [Parameter('knife.master.offset_deg', value=95.0)])
+    assert result.successful, result.reason
+    q, stream = constant_speed(START_NS + 2 * 10 ** 9, q[-1] + speed * DT, speed, 600, DT)
+    link.send(stream)
+    got = commands(link, stream)
+    step = np.abs(np.diff(got[:, 1])).max()
+    assert step < 2.0 * np.abs(np.diff(coupled(values, 'knife', q))).max()  # no jump
+    after = q - q[0] >= math.radians(30.0) + speed * DT
+    shifted = coupled(values, 'knife', q, **{'master.offset_deg': 95.0})
+    np.testing.assert_allclose(got[after, 1], shifted[after], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(got[:, 0], coupled(values, 'feeder', q), rtol=0, atol=1e-12)
+
+    # A jaw shift that brings it into the knife's zone 15.5 deg after the knife leaves it (the
+    # file's 70.5 deg, less the knife's 5 and the jaw's 60 deg of shift): refused.
+    result = set_parameters(executor, [Parameter('jaw.master.offset_deg', value=-60.0)])
+    assert not result.successful
+    assert 'jaw/knife (zones)' in result.reason and 'smallest margin 15.5' in result.reason
+    q, stream = constant_speed(START_NS + 4 * 10 ** 9, q[-1] + speed * DT, speed, 300, DT)
+    link.send(stream)
+    got = commands(link, stream)
+    np.testing.assert_allclose(got[:, 2], coupled(values, 'jaw', q), rtol=0, atol=1e-12)
+
+    # Master lost: one hold of every axis; back: every axis ramps from it onto its cam.
+    held = got[-1]
+    before = len(link.messages('commands'))
+    hold = link.inbox['commands'].wait(before + 1)[before]
+    np.testing.assert_array_equal(hold.data, held)
+    link.diagnostics('cam: master', lambda v: v['message'] == 'lost')
+    q, stream = constant_speed(START_NS + 8 * 10 ** 9, 1.0, speed, 300, DT)
+    link.send(stream)
+    got = commands(link, stream)
+    np.testing.assert_array_equal(got[0], held)  # no step: each axis leaves from its hold
+    after = q - q[0] >= math.radians(30.0)
+    for column, name in enumerate(NAMES):
+        changes = {'master.offset_deg': 95.0} if name == 'knife' else {}
+        want = coupled(values, name, q[after], **changes)
+        if name == 'knife':  # a rotary slave joins at whole turns from where it is
+            want += np.round((got[after, 1] - want) / (2 * math.pi)) * 2 * math.pi
+        np.testing.assert_allclose(got[after, column], want, rtol=0, atol=1e-12)
