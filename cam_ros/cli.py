@@ -235,6 +235,11 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='write the cam switch tracks (switches.*) for a PLC\'s cam '
                              'controller instead: --format csv (default) or st (PLCopen '
                              'MC_CAMSWITCH_TR / MC_TRACK_TR field names)')
+    _axis_option(parser)
+    parser.add_argument('--timing-diagram', action='store_true',
+                        help='a machine file: each axis\'s commanded position over one machine '
+                             'cycle, --format csv: machine angle (deg) and a column per axis in '
+                             'its file unit, --points N steps (default 360: N + 1 rows)')
 
 
 def _ros_commands(sub: argparse._SubParsersAction) -> None:

@@ -117,13 +117,10 @@ def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = Fal
     from cam_ros.output.vibration_plot import plot_vibration
 
     if timing_diagram:
-        from cam_ros.commands.machine import plot_timing_diagram
+        from cam_ros.commands.machine import plot_timing_diagram, refuse_options
 
-        for option, value in (('--axis', axis), ('--vibration', vibration or None),
-                              ('--angle-deg', angle_deg or None)):
-            if value is not None:
-                raise InvalidParameter(option, value, 'cannot go with --timing-diagram (it '
-                                                      'draws every axis over the cycle)')
+        refuse_options('--timing-diagram', {'--axis': axis, '--vibration': vibration or None,
+                                            '--angle-deg': angle_deg or None})
         return plot_timing_diagram(config, output)
     target = output_path('-o', output, FORMATS)
     if not math.isfinite(angle_deg):
@@ -144,16 +141,31 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
            file_format: str | None = None, interpolation: str | None = None,
            end_point: bool | None = None, derivatives: bool = False, machining: bool = False,
            cutter_radius: str | None = None, compensation: str | None = None,
-           arcs: bool = False, switches: bool = False) -> int:
-    """Write the cam surface (mm), a cutter path, a cam table or the cam switch tracks."""
+           arcs: bool = False, switches: bool = False, axis: str | None = None,
+           timing_diagram: bool = False) -> int:
+    """Write the cam surface (mm), a cutter path, a cam table or the cam switch tracks.
+
+    Or a machine's timing diagram (timing_diagram); axis takes one axis of a machine file.
+    """
     from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
 
+    if timing_diagram:
+        from cam_ros.commands.machine import export_timing_diagram, refuse_options
+
+        refuse_options('--timing-diagram', {
+            '--axis': axis, '--switches': switches or None, '--cam-table': cam_table or None,
+            '--machining': machining or None, '--samples': samples, '--tolerance': tolerance,
+            '--interpolation': interpolation, '--end-point': end_point,
+            '--derivatives': derivatives or None, '--cutter-radius': cutter_radius,
+            '--compensation': compensation, '--arcs': arcs or None})
+        return export_timing_diagram(config, output, file_format or 'csv', points)
     if switches:
         others = {'--cam-table': cam_table or None, '--machining': machining or None,
                   '--samples': samples, '--tolerance': tolerance, '--points': points,
                   '--interpolation': interpolation, '--end-point': end_point,
                   '--derivatives': derivatives or None, '--cutter-radius': cutter_radius,
                   '--compensation': compensation, '--arcs': arcs or None}
+        others['--axis'] = axis  # the switch tracks are the machine's, on the machine angle
         for option, value in others.items():
             if value is not None:
                 raise InvalidParameter(option, value, 'cannot go with --switches')
@@ -179,14 +191,14 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         from cam_ros.commands.machining import export_machining
 
         return export_machining(config, output, cutter_radius, tolerance,
-                                file_format or 'gcode', compensation, arcs)
+                                file_format or 'gcode', compensation, arcs, axis)
     if cam_table:
         table_format = file_format or 'csv'
         if table_format not in TABLE_FORMATS:
             raise InvalidParameter('--format', table_format, 'a cam table takes one of '
                                    + ', '.join(TABLE_FORMATS))
         return export_cam_table(config, output, points, tolerance, table_format,
-                                interpolation, end_point, derivatives)
+                                interpolation, end_point, derivatives, axis)
     surface_only = {**table_options, **machining_options, '--tolerance': tolerance,
                     '--format': file_format}
     for option, value in surface_only.items():
@@ -197,7 +209,7 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
                     else 'cam tables only: add --cam-table')
             raise InvalidParameter(option, value, f'applies to {hint}')
     target = output_path('-o', output, tuple(WRITERS))
-    design = load_design(config)
+    design = load_design(config, axis)
     with writing('export', f'writing {target}', target):
         count = export_surface(design, target, EXPORT_SAMPLES if samples is None else samples)
     print(f'wrote {target}: closed cam surface of {count} points (mm)')
@@ -206,14 +218,14 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
 
 def export_switches(config: str, output: str, table_format: str) -> int:
     """Write the cam switch tracks (switches.*) of a config for a PLC's cam controller."""
-    from cam_ros.core import load_config
+    from cam_ros.commands.machine import switch_parameters
     from cam_ros.output.switch_table import SWITCH_FORMATS, switch_table_text
 
     if table_format not in SWITCH_FORMATS:
         raise InvalidParameter('--format', table_format, 'the switch tracks take one of '
                                + ', '.join(SWITCH_FORMATS))
     target = Path(output)
-    parameters = load_config(config).parameters
+    parameters = switch_parameters(config)
     text = switch_table_text(parameters, table_format, Path(config).name)
     with writing('export', f'writing {target}', target):
         target.write_text(text, encoding='utf-8')
@@ -224,7 +236,7 @@ def export_switches(config: str, output: str, table_format: str) -> int:
 
 def export_cam_table(config: str, output: str, points: int | None, tolerance: str | None,
                      table_format: str, interpolation: str | None, end_point: bool | None,
-                     derivatives: bool) -> int:
+                     derivatives: bool, axis: str | None = None) -> int:
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
     from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
                                                   table_rounding)
@@ -238,7 +250,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
         _motion_function_options(points, end_point)
     if tolerance is not None:
         split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
-    design = load_design(config)
+    design = load_design(config, axis)
     unit, factor = design.config.file_position_unit
     limit = None if tolerance is None else positive_quantity(  # in the table's unit
         '--tolerance', tolerance, design, angular=design.config.angular)

@@ -9,14 +9,14 @@ import csv
 import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
 from cam_ros.commands.common import (dump_json, end_progress, format_table, number, progress,
                                      say, writing)
 from cam_ros.commands.report_text import format_report, report_data
-from cam_ros.core import InvalidParameter, read_parameters_file
+from cam_ros.core import InvalidParameter, parse_parameters, read_parameters_file
 from cam_ros.core.cam_angles import cam_degrees
 from cam_ros.core.config.parameters import UNITS
 from cam_ros.core.machine import (build_machine, check_interference, is_machine, Machine,
@@ -41,6 +41,26 @@ def load_machine_file(config: str | Path, option: str) -> Machine:
         raise InvalidParameter(option, True, f'{config} is one cam, not a machine file (no '
                                              f'axes): leave out {option}')
     return build_machine(parse_machine(values))
+
+
+def refuse_options(flag: str, options: dict[str, Any]) -> None:
+    """Refuse every option given (not None) that cannot go with flag."""
+    for option, value in options.items():
+        if value is not None:
+            raise InvalidParameter(option, value, f'cannot go with {flag} (it takes every axis '
+                                                  'over the machine cycle)')
+
+
+def switch_parameters(config: str | Path) -> Mapping[str, Any]:
+    """Return the checked parameters holding a config's switch tracks (switches.*).
+
+    A single cam's; a machine's machine-wide ones, whose tracks are on the machine angle: the
+    master itself (master.offset_deg 0, master.scaling 1).
+    """
+    values = read_parameters_file(config)
+    if not is_machine(values):
+        return parse_parameters(values).parameters
+    return {**parse_machine(values).parameters, 'master.offset_deg': 0.0, 'master.scaling': 1.0}
 
 
 def cam_speed(machine: Machine) -> float:
@@ -195,3 +215,22 @@ def plot_timing_diagram(config: str, output: str) -> int:
         plot_timing(machine, checks, target, title=Path(config).name)
     print(f'wrote {target}: timing diagram of {len(machine.axes)} axes')
     return machine_verdict('plot', machine, checks)
+
+
+# ------------------------------------------------------------------------------------ export
+
+def export_timing_diagram(config: str, output: str, file_format: str, points: int | None) -> int:
+    """Write the timing diagram's curves: each axis's commanded position over a machine cycle."""
+    from cam_ros.commands.design import DEFAULT_TABLE_POINTS
+    from cam_ros.output.timing_diagram import timing_csv_text
+
+    if file_format != 'csv':
+        raise InvalidParameter('--format', file_format, 'the timing diagram takes csv')
+    machine = load_machine_file(config, '--timing-diagram')
+    count = DEFAULT_TABLE_POINTS if points is None else points
+    target = Path(output)
+    with writing('export', f'writing {target}', target):
+        target.write_text(timing_csv_text(machine, count), encoding='utf-8')
+    print(f'wrote {target}: timing diagram of {len(machine.axes)} axes, {count + 1} machine '
+          'angles over 0-360 deg (csv)')
+    return machine_verdict('export', machine, check_interference(machine))

@@ -20,7 +20,8 @@ def _restated(err: InvalidParameter, option: str, text: str,
 
 def export_machining(config: str, output: str, cutter_radius: str | None,
                      tolerance: str | None, file_format: str,
-                     compensation: str | None, arcs: bool = False) -> int:
+                     compensation: str | None, arcs: bool = False,
+                     axis: str | None = None) -> int:
     """Write the cutter path (gcode, dxf) or the nominal contour (csv, gcode with G41/G42)."""
     if file_format not in MACHINING_FORMATS:
         raise InvalidParameter('--format', file_format, 'a cutter path takes one of '
@@ -34,7 +35,7 @@ def export_machining(config: str, output: str, cutter_radius: str | None,
     if cutter_radius is None and file_format != 'csv':
         raise InvalidParameter('--cutter-radius', None, f'is required with --format '
                                                         f'{file_format}')
-    design = load_design(config)
+    design = load_design(config, axis)
     closure = design.closure
     if design.check.undercut or (closure is not None and any(
             side.undercut for side in closure.sides.values())):

@@ -274,3 +274,19 @@ def plot_timing(machine: Machine, checks: tuple[PairCheck, ...], path: str | Pat
         raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
     timing_figure(machine, checks, title).savefig(target, dpi=DPI)
     return target
+
+
+def timing_csv_text(machine: Machine, points: int) -> str:
+    """Return the timing diagram's curves as CSV: points + 1 rows over machine angle 0..360.
+
+    Columns: machine_angle_deg, then each axis's commanded position in its file unit (a rotary
+    axis as commanded, not modulo a turn), the unit in each column's name.
+    """
+    degrees = np.arange(points + 1) * (360.0 / points)
+    positions = file_positions(machine, np.radians(degrees))
+    header = ['machine_angle_deg'] + [
+        f'{axis.name}_position_{axis.design.config.file_position_unit[0]}'
+        for axis in machine.axes]
+    rows = [','.join(repr(float(value)) for value in row)
+            for row in np.column_stack((degrees, positions))]
+    return '\n'.join([','.join(header), *rows]) + '\n'
