@@ -28,8 +28,8 @@ from cam_ros.core.ecam.cam_table import INTERPOLATIONS
 
 #: What exit code 1 means for each kind of command (commands without a failure never return 1).
 LIMITS_FAILED = ('the design violates one of its limits (pressure angle, radius of curvature, '
-                 'undercut, a velocity jump, or contact stress with dynamics); the output is '
-                 'still written')
+                 'undercut, a velocity jump, or contact stress with dynamics), or a machine\'s '
+                 'axis does or an interference pair collides; the output is still written')
 CALL_FAILED = 'the service was not available, refused the request or did not answer in time'
 ECHO_FAILED = 'the messages asked for (any, without --count/--once) did not arrive in --timeout'
 NODE_FAILED = 'the node was not found, did not answer in time or refused the request'
@@ -123,7 +123,9 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
                       'Pressure angle, radius of curvature, undercut, smallest base radius, '
                       'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
-                      'discontinuities. SI units, angles in degrees.', exit_codes(LIMITS_FAILED))
+                      'discontinuities. SI units, angles in degrees. A machine file: each '
+                      'axis\'s report and each interference pair (smallest gap or margin, '
+                      'rounded down).', exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--json', dest='json_output', action='store_true',
                         help='print one JSON object instead of text')
@@ -132,7 +134,9 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
                       'Arrays over one revolution from 0: angle (rad), position, velocity, '
                       'acceleration, jerk (SI), their derivatives per rad of cam angle, '
-                      'pressure angle (rad) and radius of curvature (m).',
+                      'pressure angle (rad) and radius of curvature (m). A machine file: '
+                      'each axis\'s position, velocity, acceleration, jerk as commanded at '
+                      'cam_speed over the machine angle.',
                       exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--step-deg', type=STEP_DEG, default=1.0, metavar='D',
