@@ -130,6 +130,11 @@ def format_table(headers: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
     return '\n'.join([line(headers), *(line(row) for row in rows)])
 
 
+def csv_column(name: str, unit: str) -> str:
+    """Return a CSV column name with its unit: velocity, m/s -> velocity_m_per_s."""
+    return f'{name}_{unit}'.replace('/', '_per_').replace('^', '')
+
+
 def degrees(angle: float) -> float:
     """Return an angle (rad) in degrees, rounded to 1e-9 deg so that 240 prints as 240.0."""
     return round(math.degrees(angle), 9)

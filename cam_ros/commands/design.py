@@ -10,9 +10,9 @@ from typing import Iterator
 
 import numpy as np
 
-from cam_ros.commands.common import (dump_json, DYNAMICS_FIELDS, end_progress, format_table,
-                                     load_design, number, output_path, positive_quantity,
-                                     progress, verdict, writing)
+from cam_ros.commands.common import (csv_column, dump_json, DYNAMICS_FIELDS, end_progress,
+                                     format_table, load_design, number, output_path,
+                                     positive_quantity, progress, verdict, writing)
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.report import design_report
@@ -70,11 +70,6 @@ def sample_units(design: CamDesign) -> dict[str, str]:
     unit = design.config.position_unit
     fields = SAMPLE_FIELDS + (DYNAMICS_FIELDS if design.dynamics else ())
     return {name: template.format(p=unit) for name, _, template in fields}
-
-
-def csv_column(name: str, unit: str) -> str:
-    """Return a CSV column name with its unit: velocity, m/s -> velocity_m_per_s."""
-    return f'{name}_{unit}'.replace('/', '_per_').replace('^', '')
 
 
 def sample(config: str, step_deg: float = 1.0, json_output: bool = False,

@@ -13,8 +13,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from cam_ros.commands.common import (dump_json, end_progress, format_table, number, progress,
-                                     say, writing)
+from cam_ros.commands.common import (csv_column, dump_json, end_progress, format_table,
+                                     number, output_path, progress, say, writing)
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import InvalidParameter, parse_parameters, read_parameters_file
 from cam_ros.core.cam_angles import cam_degrees
@@ -24,6 +24,8 @@ from cam_ros.core.machine import (build_machine, check_interference, is_machine,
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.output.rounding import ceil_sig, floor_sig
 
+#: Machine-angle steps of `export --timing-diagram` without --points: one per degree.
+TIMING_POINTS = 360
 #: The setpoint arrays of `cam_ros sample MACHINE`, per axis: (name, unit; {p} = m or rad).
 MACHINE_SAMPLE_FIELDS = (('position', '{p}'), ('velocity', '{p}/s'),
                          ('acceleration', '{p}/s^2'), ('jerk', '{p}/s^3'))
@@ -170,8 +172,6 @@ def _report_text(machine: Machine, reports: tuple, checks: tuple[PairCheck, ...]
 def sample(config: str, angles: np.ndarray, json_output: bool = False,
            csv_output: bool = False) -> int:
     """Print every axis's commanded setpoints at machine angles (rad) at cam_speed, SI."""
-    from cam_ros.commands.design import csv_column
-
     machine = load_machine_file(config, 'axes')
     setpoints = machine.setpoints(angles, cam_speed(machine))
     units = [{name: template.format(p=axis.design.config.position_unit)
@@ -204,7 +204,6 @@ def sample(config: str, angles: np.ndarray, json_output: bool = False,
 
 def plot_timing_diagram(config: str, output: str) -> int:
     """Draw every axis over one machine cycle, the switch tracks and every collision."""
-    from cam_ros.commands.common import output_path
     from cam_ros.output.plot import FORMATS
     from cam_ros.output.timing_diagram import plot_timing
 
@@ -221,13 +220,12 @@ def plot_timing_diagram(config: str, output: str) -> int:
 
 def export_timing_diagram(config: str, output: str, file_format: str, points: int | None) -> int:
     """Write the timing diagram's curves: each axis's commanded position over a machine cycle."""
-    from cam_ros.commands.design import DEFAULT_TABLE_POINTS
     from cam_ros.output.timing_diagram import timing_csv_text
 
     if file_format != 'csv':
         raise InvalidParameter('--format', file_format, 'the timing diagram takes csv')
     machine = load_machine_file(config, '--timing-diagram')
-    count = DEFAULT_TABLE_POINTS if points is None else points
+    count = TIMING_POINTS if points is None else points
     target = Path(output)
     with writing('export', f'writing {target}', target):
         target.write_text(timing_csv_text(machine, count), encoding='utf-8')
