@@ -6,7 +6,7 @@ diagnostic aggregators and rqt_robot_monitor show them.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
@@ -14,6 +14,7 @@ from rclpy.node import Node
 
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.axes import SlaveAxes
+from cam_ros.core.ecam.follow import FAULT
 from cam_ros.core.ecam.master_tracker import LOST, MasterTracker, OK, STALE, WAITING
 from cam_ros.core.ecam.switches import SwitchTracks
 from cam_ros.recording import Recorder
@@ -58,7 +59,8 @@ def master_status(node: Node, tracker: MasterTracker, speed_limit: tuple[float, 
 def engagement_status(node: Node, axes: SlaveAxes, tracks: SwitchTracks,
                       **values: Any) -> DiagnosticStatus:
     """Say what the slaves do, their engage mode and the cam switches' states."""
-    level = DiagnosticStatus.OK if axes.engaged else DiagnosticStatus.WARN
+    level = DiagnosticStatus.ERROR if any(follower.phase == FAULT for follower in axes.followers) \
+        else DiagnosticStatus.OK if axes.engaged else DiagnosticStatus.WARN
     word = tracks.word or 0
     switches = {f'switch {name}': 'on' if word >> index & 1 else 'off'
                 for index, name in enumerate(tracks.table.names)}
@@ -87,3 +89,17 @@ def cam_figures(design: CamDesign) -> dict[str, Any]:
                 min_radius_of_curvature_m=f'{check.min_radius:.6g}',
                 radius_of_curvature_limit_m=f'{design.config.min_radius_of_curvature:.6g}',
                 undercut=check.undercut)
+
+
+def design_statuses(node: Node,
+                    axes: Sequence[tuple[str, CamDesign]]) -> list[DiagnosticStatus]:
+    """Return each axis's design diagnostics ('design', or 'design NAME' in a machine)."""
+    return [design_status(node, design, jump_speed(design),
+                          'design' if len(axes) == 1 else f'design {name}')
+            for name, design in axes]
+
+
+def jump_speed(design: CamDesign) -> float | None:
+    """Return the design's jump speed (rad/s of cam), None without dynamics or jump."""
+    report = design.dynamics_check
+    return None if report is None else report.jump_speed

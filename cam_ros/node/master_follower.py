@@ -28,17 +28,19 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
+from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
-                                              MasterTracker, NO_JOINT, OK, read_master)
+                                              MasterTracker, OK, read_master)
 from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
                                                 MASTER_TOPIC_KEY)
-from cam_ros.node.ecam_diagnostics import (design_status, engagement_status, master_status,
-                                           recording_status)
+from cam_ros.node.ecam_diagnostics import (design_statuses, engagement_status, jump_speed,
+                                           master_status, recording_status)
 from cam_ros.node.ecam_log import EcamLog
+from cam_ros.node.slave_feedback import SLAVE_QOS, SlaveFeedback, watches
 from cam_ros.node.joints import CAM_JOINT
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.qos_events import publisher
@@ -47,8 +49,6 @@ COMMAND_QOS = QoSProfile(depth=10)
 #: ~/switches and ~/state: a late subscriber gets the present state at once.
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      reliability=ReliabilityPolicy.RELIABLE)
-#: The slave's state: best effort matches the broadcaster whatever its reliability.
-SLAVE_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
 DIAGNOSTICS_PERIOD_S = 1.0
 
 
@@ -86,7 +86,7 @@ class MasterFollower:
                 values['master.engage_on_start'], SlaveLimits.from_config(design.config), unit)
              for (_, design), unit in zip(axes, self._units)],
             [design.config.parameters['command.interface'] for _, design in axes])
-        self._design_statuses = _design_statuses(node, axes)
+        self._design_statuses = design_statuses(node, axes)
         self._tracks = SwitchTracks(switch_table(switches))
         self._speed_limit = _speed_limit(axes)
         self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
@@ -99,18 +99,19 @@ class MasterFollower:
         self._changed_after: int | None = None
         self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
+        self._active = True  # a managed node's inactive state sends nothing
         self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
         self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master thread vs executor (timers, updates)
-        self._slave_topics = {design.config.parameters['slave.state_topic']
-                              for _, design in axes} - {''}
-        self._slave_dropped = 0
-        self._log = EcamLog(node, LATCHED, sorted(self._slave_topics), SLAVE_QOS)
-        for topic in sorted(self._slave_topics):
-            node.create_subscription(JointState, topic, self._on_slave, SLAVE_QOS)
+        self._slave_topics = sorted({design.config.parameters['slave.state_topic']
+                                     for _, design in axes} - {''})
+        self._log = EcamLog(node, LATCHED, self._slave_topics, SLAVE_QOS)
+        self._history = CommandHistory()
+        self._feedback = SlaveFeedback(node, self._axes, self._slave_topics, self._history,
+                                       watches(axes), self._lock, self._fault)
         node.create_service(SetBool, '~/engage', self._engage)
         self._intake = master_intake(node, self._config.topic, self._on_master)
         self._master_sub = self._intake.entity
@@ -135,7 +136,7 @@ class MasterFollower:
         """Take new designs: offsets blended, other changes at a common place or at once."""
         first = axes[0][1].config
         config, values = MasterConfig.from_config(first), first.parameters
-        statuses = _design_statuses(self._node, axes)
+        statuses = design_statuses(self._node, axes)
         limit, table = _speed_limit(axes), switch_table(switches)
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
@@ -146,6 +147,7 @@ class MasterFollower:
             tracker.bound, tracker.nominal = config.max_speed, _nominal_speed(axes)
             self._speed_limit, tracker.max_speed = limit, limit[0]
             self._units = [AxisUnit.of(design.config) for _, design in axes]
+            self._feedback.watches = watches(axes)
             said = []
             for (name, design), follower, unit in zip(axes, self._axes.followers, self._units):
                 mapping = MasterConfig.from_config(design.config).mapping
@@ -159,7 +161,7 @@ class MasterFollower:
                     SlaveLimits.from_config(design.config)))
             self._axes.interfaces = [design.config.parameters['command.interface']
                                      for _, design in axes]
-            if not _same(table, self._tracks):
+            if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
             self._last_handover = _by_axis(self._axes.names, said)
             last = tracker.last
@@ -171,6 +173,20 @@ class MasterFollower:
     def stop(self) -> None:
         """Stop taking master messages (before the node is destroyed)."""
         self._intake.stop()
+
+    def activate(self) -> None:
+        """Send commands again: every axis engages in its mode from where it is held."""
+        with self._lock:
+            self._active = True
+            self._publish_state()
+
+    def deactivate(self) -> None:
+        """Send one hold command for every axis, then nothing (master messages stay tracked)."""
+        with self._lock:
+            self._axes.lose('inactive')
+            self._hold()
+            self._active = False
+            self._publish_state()
 
     # Master messages, slave state, ~/engage ----------------------------------------------
     def _on_master(self, message: JointState) -> None:
@@ -193,6 +209,8 @@ class MasterFollower:
             self._node.get_logger().warning(
                 f'dropped a master message: {bad.reason} ({tracker.dropped[bad.reason]} so far)',
                 throttle_duration_sec=5.0)
+            return
+        if not self._active:  # tracked (the speed estimate stays warm), nothing commanded
             return
         if state.origin:
             self._node.get_logger().warning(
@@ -235,6 +253,8 @@ class MasterFollower:
     def _publish(self, message: JointState, state: MasterState, points: list[Any]) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
         self._commands_pub.publish(Float64MultiArray(data=self._axes.values(points)))
+        self._history.add(state.stamp_ns, [float(p.position) for p in points],
+                          [float(p.velocity) for p in points])
         joints = JointState(name=[CAM_JOINT, *self._axes.names],
                             position=[state.position, *(float(p.position) for p in points)],
                             velocity=[state.omega, *(float(p.velocity) for p in points)])
@@ -258,33 +278,15 @@ class MasterFollower:
         self._last_handover = applied if len(self._axes) == 1 else f'{name}: {applied}'
         self._node.get_logger().info(f'design change applied {self._last_handover}')
 
-    def _on_slave(self, message: JointState) -> None:
-        """Note the driven axes' positions (their joints); where a first engagement starts."""
-        found = []
-        for name, follower in zip(self._axes.names, self._axes.followers):
-            if name not in message.name:
-                continue
-            try:
-                position, _ = read_master(name, message.name, message.position,
-                                          message.velocity, message.effort)
-            except BadMaster as bad:
-                self._drop_slave(bad.reason)
-                return
-            found.append((follower, position))
-        if not found:
-            self._drop_slave(NO_JOINT)
-            return
-        with self._lock:
-            for follower, position in found:
-                follower.present = position
-
-    def _drop_slave(self, reason: str) -> None:
-        """Count and say a dropped slave state message."""
-        with self._lock:
-            self._slave_dropped += 1
-        self._node.get_logger().warning(
-            f'dropped a slave state message: {reason} ({self._slave_dropped} so far)',
-            throttle_duration_sec=5.0)
+    def _fault(self, axis: str, error: float, limit: float, stamp: int) -> None:
+        """Hold every axis at its last command: the machine stops as one (lock held)."""
+        unit = self._units[self._axes.names.index(axis)]
+        self._axes.fault('following error')
+        self._hold()
+        self._node.get_logger().error(
+            f'following error of {axis}: {unit.say(error)} over slave.following_error_limit '
+            f'{unit.say(limit)} at stamp {stamp} ns: every axis holds (~/engage true clears)')
+        self._publish_state()
 
     def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         with self._lock:
@@ -306,7 +308,7 @@ class MasterFollower:
     def _hold_when_lost(self) -> None:
         """Notice master silence: hold every axis once the master is lost."""
         status = self._tracker.check(self._node.get_clock().now().nanoseconds)
-        if status != LOST:
+        if status != LOST or not self._active:
             return
         self._axes.lose()
         self._tracks.reset()
@@ -326,11 +328,13 @@ class MasterFollower:
             return
         held = [float(position) for position in self._axes.held]  # type: ignore[arg-type]
         self._commands_pub.publish(Float64MultiArray(data=values))
+        now = self._node.get_clock().now()
+        self._history.stop()  # the hold keeps the last command's positions
         last = self._tracker.last
         joints = JointState(name=[CAM_JOINT, *self._axes.names],
                             velocity=[0.0] * (len(held) + 1),
                             position=[last.position if last else 0.0, *held])
-        joints.header.stamp = self._node.get_clock().now().to_msg()
+        joints.header.stamp = now.to_msg()
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:
             rest = np.zeros((len(held), 1))
@@ -361,8 +365,9 @@ class MasterFollower:
             **{MASTER_TOPIC_KEY: self._master_sub.topic_name, DESIGN_CHANGES_KEY: self._changes,
                CHANGED_AFTER_KEY: ('none' if self._changed_after is None
                                    else self._changed_after)},
-            slave_state_topic=', '.join(sorted(self._slave_topics)) or 'none',
-            slave_states_dropped=self._slave_dropped)
+            slave_state_topic=', '.join(self._slave_topics) or 'none',
+            slave_states_dropped=self._feedback.dropped,
+            slave_states_unmatched=self._feedback.unmatched)
 
     def _master_status(self) -> DiagnosticStatus:
         pending = [(name, follower.handover.describe())
@@ -373,14 +378,6 @@ class MasterFollower:
                              design_change=_by_axis([name for name, _ in pending],
                                                     [said for _, said in pending]) or 'none',
                              last_design_change=self._last_handover)
-
-
-def _design_statuses(node: Node, axes: Sequence[tuple[str, CamDesign]]
-                     ) -> list[DiagnosticStatus]:
-    """Return each axis's design diagnostics ('design', or 'design NAME' in a machine)."""
-    return [design_status(node, design, jump_speed(design),
-                          'design' if len(axes) == 1 else f'design {name}')
-            for name, design in axes]
 
 
 def _by_axis(names: Sequence[str], said: Sequence[str]) -> str:
@@ -399,20 +396,6 @@ def _speed_limit(axes: Sequence[tuple[str, CamDesign]]) -> tuple[float, str]:
 def _nominal_speed(axes: Sequence[tuple[str, CamDesign]]) -> float:
     """Return the master speed at cam_speed (the same for every axis of a machine)."""
     return MasterConfig.from_config(axes[0][1].config).nominal_speed
-
-
-def _same(table: Any, tracks: SwitchTracks) -> bool:
-    """Say whether a switch table equals the one the tracks run."""
-    old = tracks.table
-    return (table.names, table.hysteresis) == (old.names, old.hysteresis) and all(
-        np.array_equal(a, b) for a, b in ((table.on, old.on), (table.off, old.off),
-                                          (table.lead_time, old.lead_time)))
-
-
-def jump_speed(design: CamDesign) -> float | None:
-    """Return the design's jump speed (rad/s of cam), None without dynamics or jump."""
-    report = design.dynamics_check
-    return None if report is None else report.jump_speed
 
 
 def _trajectory(names: Sequence[str], times: np.ndarray, positions: np.ndarray,

@@ -223,6 +223,11 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='length_unit|deg per s', minimum=0.0, maximum=1e9),
     _p('slave.max_acceleration', 'double', 0.0, 'Largest acceleration the axis may be commanded '
        '(0: not limited)', unit='length_unit|deg per s^2', minimum=0.0, maximum=1e12),
+    _p('slave.following_error_limit', 'double', 0.0, 'Largest |command - reported position| '
+       'on slave.state_topic before the machine holds (0: not checked)',
+       unit='length_unit|deg', minimum=0.0, maximum=1e9),
+    _p('slave.following_error_time', 'double', 0.0, 'How long the following error may stay over '
+       'its limit before the machine holds (0: at once)', unit='s', minimum=0.0, maximum=3600.0),
     _p('slave.direction', 'string', 'any', 'Way the axis may move: any, or only positive or '
        'negative (a knife or feed roll that must not turn back)',
        choices=('any', 'positive', 'negative')),
@@ -248,6 +253,8 @@ SPECS: dict[str, ParameterSpec] = {spec.name: spec for spec in PARAMETERS}
 ROS_NODE_PARAMETERS: dict[str, ParameterSpec] = {spec.name: spec for spec in (
     _p('use_sim_time', 'bool', False, 'Take the time from /clock'),
     _p('start_type_description_service', 'bool', True, 'Serve the node\'s type descriptions'),
+    _p('autostart', 'bool', True, 'cam_node: configure and activate the managed node at '
+       'start-up (false: it waits unconfigured for ~/change_state)'),
 )}
 
 

@@ -81,10 +81,15 @@ class SlaveAxes:
             f'{name}: {said}' for name, (_, said) in zip(self.names, answers))
         return all(ok for ok, _ in answers), message
 
-    def lose(self) -> None:
-        """The master is lost: every axis holds."""
+    def fault(self, reason: str) -> None:
+        """Every axis holds at its last command until ~/engage clears the fault."""
         for follower in self.followers:
-            follower.lose()
+            follower.fault(reason)
+
+    def lose(self, reason: str = 'master lost') -> None:
+        """Every axis holds (the master is lost, or the node is deactivated)."""
+        for follower in self.followers:
+            follower.lose(reason)
 
     def events(self) -> list[str]:
         """Take what the followers noted (axis names in front when there are several)."""

@@ -47,7 +47,7 @@ IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
 #: What the slave is doing: the message of ~/state and of the engagement diagnostics.
 HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle start', \
     'engaging', 'engaged'
-STOPPING, END_OF_PROFILE = 'stopping', 'end of profile'
+STOPPING, END_OF_PROFILE, FAULT = 'stopping', 'end of profile', 'fault'
 RUNNING = (ENGAGING, ENGAGED)
 #: next_cycle: largest difference (m or rad) between the held position and the cam at angle 0,
 #: and largest |dy/dtheta| there (per rad of cam), for a start without a step.
@@ -119,6 +119,10 @@ class Follower:
         self.wanted = True
         if self.phase in (ENGAGING, ENGAGED, WAITING_CYCLE):
             return True, f'already {self.phase}'
+        if self.phase == FAULT:  # cleared: engage from where the axis reports it is
+            self.phase, self.reason = HOLDING, ''
+            if self.present is not None:
+                self.held = self.present
         problem = self._next_cycle_problem(self._origin())
         if problem:
             self.phase, self.reason = HOLDING, problem
@@ -128,14 +132,22 @@ class Follower:
             self.phase, self.reason = HOLDING, ''
         return True, f'engaging ({self.config.mode}) at the next master message'
 
-    def lose(self) -> None:
-        """The master is lost: hold; engage again in the same mode when it returns."""
+    def fault(self, reason: str) -> None:
+        """Hold at the last command until ~/engage clears the fault (a following error)."""
+        self._last, self._stop, self.handover = None, None, None
+        self.phase, self.reason, self._pending = FAULT, reason, False
+
+    def lose(self, reason: str = 'master lost') -> None:
+        """Hold at the last command; engage again in the same mode at the next sample followed.
+
+        reason: why (the master is lost, or the node was deactivated).
+        """
         self._last = None
         if self.handover is not None:  # not following any more: the new design applies now
             self._set_cam(shifted(self.handover.new, -self._turns, self.limits))
             self.handover = None
         if self.phase in RUNNING + (STOPPING,):
-            self.phase, self.reason, self._stop = HOLDING, 'master lost', None
+            self.phase, self.reason, self._stop = HOLDING, reason, None
             self._pending = self.wanted
 
     def change(self, cam: ElectronicCam, config: EngageConfig,

@@ -38,6 +38,12 @@ class SwitchTable:
     lead_time: FloatArray
     hysteresis: float
 
+    def same(self, other: 'SwitchTable') -> bool:
+        """Say whether two tables switch the same tracks at the same angles."""
+        return (self.names, self.hysteresis) == (other.names, other.hysteresis) and all(
+            np.array_equal(a, b) for a, b in ((self.on, other.on), (self.off, other.off),
+                                              (self.lead_time, other.lead_time)))
+
 
 def switch_table(parameters: Mapping[str, Any]) -> SwitchTable:
     """Return the switches.* parameters (already checked) in SI."""
