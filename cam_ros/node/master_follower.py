@@ -129,7 +129,8 @@ class MasterFollower:
         return [TopicSpec(self._master_sub.topic_name, JointState, MASTER_QOS)] + [
             TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
             for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub,
-                        self._switches_pub, self._state_pub)] + self._log.topics()
+                        self._switches_pub, self._state_pub, self._feedback.publisher)
+        ] + self._log.topics()
 
     def change(self, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any]) -> None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Callable, TYPE_CHECKING
 
 import numpy as np
 
@@ -314,8 +314,13 @@ def design_figure(design: CamDesign, angle: float = 0.0, title: str = '') -> Fig
 def plot_design(design: CamDesign, path: str | Path, angle: float = 0.0,
                 title: str = '') -> Path:
     """Save the diagrams and the cam drawing at cam angle (rad) to a .png or .svg."""
+    return save(lambda: design_figure(design, angle, title), path)
+
+
+def save(figure: Callable[[], Figure], path: str | Path) -> Path:
+    """Draw a figure and save it to a .png or .svg (checked before drawing)."""
     target = Path(path)
     if target.suffix.lower() not in FORMATS:
         raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
-    design_figure(design, angle, title).savefig(target, dpi=DPI)
+    figure().savefig(target, dpi=DPI)
     return target

@@ -21,12 +21,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from cam_ros.core import InvalidParameter
 from cam_ros.core.cam_angles import TWO_PI
 from cam_ros.core.config.parameters import UNITS
 from cam_ros.core.ecam.switches import switch_table
 from cam_ros.core.machine import Machine, PairCheck
-from cam_ros.output.plot import DPI, FORMATS
+from cam_ros.output.plot import save
 from cam_ros.output.rounding import ceil_sig, floor_sig
 
 if TYPE_CHECKING:
@@ -269,11 +268,7 @@ def timing_figure(machine: Machine, checks: tuple[PairCheck, ...], title: str = 
 def plot_timing(machine: Machine, checks: tuple[PairCheck, ...], path: str | Path,
                 title: str = '') -> Path:
     """Save the timing diagram of a machine to a .png or .svg."""
-    target = Path(path)
-    if target.suffix.lower() not in FORMATS:
-        raise InvalidParameter('path', str(path), 'must end in ' + ', '.join(FORMATS))
-    timing_figure(machine, checks, title).savefig(target, dpi=DPI)
-    return target
+    return save(lambda: timing_figure(machine, checks, title), path)
 
 
 def timing_csv_text(machine: Machine, points: int) -> str:

@@ -1,9 +1,13 @@
-"""Replay a recorded master stream into a fresh electronic cam node: the same commands back."""
+"""Replay a recorded master stream into a fresh electronic cam node: the same commands back.
+
+For a single cam and for config/machine.yaml (every axis's command in each ~/commands).
+"""
 from __future__ import annotations
 
 import signal
 
 import numpy as np
+import pytest
 from conftest import CONFIG_DIR
 from ecam_support import master_message, MasterLink, stamp_of, WAIT_S
 from std_msgs.msg import Float64MultiArray
@@ -13,15 +17,20 @@ from cam_ros.recording import open_recording, Player
 DEFAULT = CONFIG_DIR / 'default.yaml'
 ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=30.0', '-p', 'slave.scaling:=2.0',
         '-p', 'command.trajectory_horizon:=0.02')
+MACHINE = CONFIG_DIR / 'machine.yaml'
+MACHINE_ARGS = ('-p', 'master.joint:=cam', '-p', 'master.timeout:=30.0', '-p',
+                'command.trajectory_horizon:=0.02')
 RECORDED = {'/cam/master', '/cam/commands', '/cam/joint_trajectory', '/cam/joint_states',
             '/diagnostics'}
 
 
+@pytest.mark.parametrize('params, args, evaluate', [(DEFAULT, ECAM, 'evaluate'),
+                                                    (MACHINE, MACHINE_ARGS, 'knife/evaluate')])
 def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_commands(
-        start_cam_node, executor, tmp_path):
+        start_cam_node, executor, tmp_path, params, args, evaluate):
     folder = tmp_path / 'runs'
-    first, _ = start_cam_node(DEFAULT, *ECAM, '-p', 'recording.enabled:=true',
-                              '-p', f'recording.directory:={folder}')
+    first, _ = start_cam_node(params, *args, '-p', 'recording.enabled:=true',
+                              '-p', f'recording.directory:={folder}', evaluate=evaluate)
     link = MasterLink(executor)
     link.connect(first)
     t = 0.01 * np.arange(150)
@@ -45,9 +54,9 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
     statuses = {status.name: status.message for array in recording.messages(['/diagnostics'])
                 for status in array.message.status}
     assert statuses['cam: recording'].startswith(f'recording to {folder}/cam_')
-    assert [m.data[0] for m in recorded['/cam/commands']] == [m.data[0] for m in sent]
+    assert [list(m.data) for m in recorded['/cam/commands']] == [list(m.data) for m in sent]
 
-    second, _ = start_cam_node(DEFAULT, *ECAM, name='cam')
+    second, _ = start_cam_node(params, *args, name='cam', evaluate=evaluate)
     fresh = MasterLink(executor)
     with Player(recording, executor.node('player'), topics=['/cam/master']) as player:
         # One probe, older than every recording, through the replaying publisher: once the node
@@ -61,7 +70,7 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
     replayed = fresh.inbox['joints'].wait(before + count, WAIT_S)[before:]
     commands = fresh.messages('commands')[before:]
     assert all(isinstance(m, Float64MultiArray) for m in commands)
-    assert [m.data[0] for m in commands] == [m.data[0] for m in recorded['/cam/commands']]
+    assert [list(m.data) for m in commands] == [list(m.data) for m in recorded['/cam/commands']]
     original = recorded['/cam/joint_states']
     assert [stamp_of(m) for m in replayed] == [stamp_of(m) for m in original]
     np.testing.assert_array_equal([list(m.position) + list(m.velocity) for m in replayed],
