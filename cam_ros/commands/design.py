@@ -14,7 +14,8 @@ from cam_ros.commands.common import (csv_column, dump_json, DYNAMICS_FIELDS, end
                                      format_table, load_design, number, output_path,
                                      positive_quantity, progress, verdict, writing)
 from cam_ros.commands.report_text import format_report, report_data
-from cam_ros.core import CamDesign, InvalidParameter
+from cam_ros.core import CamDesign, InvalidParameter, read_parameters_file
+from cam_ros.core.machine import is_machine
 from cam_ros.core.report import design_report
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
@@ -192,6 +193,9 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         if table_format not in TABLE_FORMATS:
             raise InvalidParameter('--format', table_format, 'a cam table takes one of '
                                    + ', '.join(TABLE_FORMATS))
+        if axis is None and is_machine(read_parameters_file(config)):
+            return export_machine_tables(config, output, points, tolerance, table_format,
+                                         interpolation, end_point, derivatives)
         return export_cam_table(config, output, points, tolerance, table_format,
                                 interpolation, end_point, derivatives, axis)
     surface_only = {**table_options, **machining_options, '--tolerance': tolerance,
@@ -283,6 +287,33 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
         print(f'note: the {table_format} file has no comment syntax: its characteristic values '
               f'are those of `cam_ros export --format csv`')
     return verdict('export', design)
+
+
+def export_machine_tables(config: str, output: str, points: int | None, tolerance: str | None,
+                          table_format: str, interpolation: str | None, end_point: bool | None,
+                          derivatives: bool) -> int:
+    """Write one cam table per axis of a machine file into the folder output, named by axis."""
+    from cam_ros.core.machine import build_machine, parse_machine
+
+    folder = Path(output)
+    if folder.exists() and not folder.is_dir():
+        raise InvalidParameter('-o', output, 'must be a folder for a machine file\'s tables '
+                               '(one per axis)')
+    machine = build_machine(parse_machine(read_parameters_file(config)))
+    for axis in machine.axes if tolerance is not None else ():  # every axis's, before writing
+        try:
+            positive_quantity('--tolerance', tolerance, axis.design,
+                              angular=axis.design.config.angular)
+        except InvalidParameter as err:
+            raise InvalidParameter(err.parameter, err.value,
+                                   f'{err.rule} for axis {axis.name}') from err
+    with writing('export', f'making {folder}', folder):
+        folder.mkdir(parents=True, exist_ok=True)
+    codes = [export_cam_table(config, str(folder / f'{name}{TABLE_FORMATS[table_format].suffix}'),
+                              points, tolerance, table_format, interpolation, end_point,
+                              derivatives, name)
+             for name in machine.config.names]
+    return max(codes)
 
 
 @contextmanager

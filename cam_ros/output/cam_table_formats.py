@@ -55,6 +55,8 @@ class TableFormat:
     single_precision: bool = False
     #: Where the point limits come from, for the refusal.
     source: str = ''
+    #: File name ending of a table written per axis of a machine (export -o DIR).
+    suffix: str = '.txt'
 
 
 def _rows(values: np.ndarray, separator: str) -> list[str]:
@@ -85,24 +87,26 @@ def _write_st(notes: Sequence[str], values: np.ndarray, names: Sequence[str],
 
 
 FORMATS: dict[str, TableFormat] = {
-    'csv': TableFormat('optional', _write_csv, interpolations=INTERPOLATIONS),
+    'csv': TableFormat('optional', _write_csv, interpolations=INTERPOLATIONS, suffix='.csv'),
     'sew': TableFormat('never', _write_sew, SEW_MAX_POINTS, SEW_DEFAULT_POINTS,
                        comments=False, source='MOVI-C library parameter '
-                                              'gc_uMaxNumberOfInterpPoints'),
+                                              'gc_uMaxNumberOfInterpPoints', suffix='.csv'),
     # CODESYS SoftMotion interpolates an XYVA cam by fifth-degree polynomials through X, Y, V, A.
-    'xyva': TableFormat('always', _write_csv, interpolations=('quintic',)),
-    'st': TableFormat('never', _write_st),
+    'xyva': TableFormat('always', _write_csv, interpolations=('quintic',), suffix='.csv'),
+    'st': TableFormat('never', _write_st, suffix='.st'),
     'lenze': TableFormat('never', write_lenze, no_advance=NO_ADVANCE.format('Cam Loader'),
                          unstated=('linear',)),
     'kollmorgen': TableFormat('never', write_kollmorgen, min_points=KOLLMORGEN_MIN_POINTS,
                               no_advance=NO_ADVANCE.format('KAS cam CSV import'),
                               unstated=('linear',), comments=False,
-                              source='KAS IDE, Import Cam Profile: at least 4 spline segments'),
+                              source='KAS IDE, Import Cam Profile: at least 4 spline segments',
+                              suffix='.csv'),
     'rockwell': TableFormat('never', write_rockwell, interpolations=('linear', 'cubic'),
                             no_advance=NO_ADVANCE.format('Logix CAM data type'),
-                            unstated=('cubic',), single_precision=True),
+                            unstated=('cubic',), single_precision=True, suffix='.L5X'),
     # Written by motion_function_text; listed here for the option's choices.
-    'twincat-functions': TableFormat('always', _write_st, interpolations=('quintic',)),
+    'twincat-functions': TableFormat('always', _write_st, interpolations=('quintic',),
+                                     suffix='.st'),
 }
 #: How the header names each interpolation.
 METHODS = {

@@ -6,7 +6,8 @@ import csv
 import numpy as np
 import pytest
 from cli_support import assert_one_error_line, DEFAULT_CONFIG, run_cli
-from machine_support import jaw_s, knife_s, MACHINE, MM, NAMES, reference_positions
+from machine_support import (feeder_s, jaw_s, knife_s, MACHINE, MM, NAMES,
+                             reference_positions)
 
 from cam_ros.core.machine import load_machine
 
@@ -83,3 +84,30 @@ def test_export_options_a_machine_cannot_take_are_refused(tmp_path, capsys, argv
 def test_a_single_cam_has_no_timing_diagram(tmp_path, capsys):
     run = run_cli(capsys, 'export', DEFAULT_CONFIG, '--timing-diagram', '-o', tmp_path / 'x.csv')
     assert_one_error_line(run, 'export', '--timing-diagram', 'one cam, not a machine file')
+
+
+def test_a_machine_exports_one_cam_table_per_axis_into_a_folder(tmp_path, capsys):
+    folder = tmp_path / 'tables'
+    run = run_cli(capsys, 'export', MACHINE, '--cam-table', '--points', 72, '-o', folder)
+    assert run.code == 0 and run.err == ''
+    assert sorted(path.name for path in folder.iterdir()) == [f'{name}.csv' for name in
+                                                              sorted(NAMES)]
+    for name, s, scale in (('feeder', feeder_s, 1.0 / MM), ('jaw', jaw_s, 1.0 / MM),
+                           ('knife', KNIFE, 180.0 / np.pi)):
+        assert f'wrote {folder / name}.csv: cam table of 73 points' in run.out
+        with (folder / f'{name}.csv').open(newline='') as stream:  # names in a # comment
+            values = np.array([row for row in csv.reader(stream) if not row[0].startswith('#')],
+                              dtype=float)
+        degrees = values[:, 0]  # the axis's own cam angle, not the machine's: every 5 deg
+        np.testing.assert_array_equal(degrees, np.arange(73) * 5.0)
+        advance = 360.0 * (degrees >= 360.0) if name == 'knife' else 0.0  # a turn per cycle
+        np.testing.assert_allclose(values[:, 1], s(np.radians(degrees % 360.0)) * scale
+                                   + advance, rtol=0, atol=1e-9)
+
+
+def test_a_machine_table_tolerance_that_fits_no_axis_unit_is_refused_before_writing(
+        tmp_path, capsys):
+    folder = tmp_path / 'tables'
+    run = run_cli(capsys, 'export', MACHINE, '--cam-table', '--tolerance', '1um', '-o', folder)
+    assert_one_error_line(run, 'export', '--tolerance', 'for axis knife')
+    assert not folder.exists()
