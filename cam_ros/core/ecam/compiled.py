@@ -1,0 +1,242 @@
+"""
+Compiled cams: the steady setpoints of many axes in one NumPy pass.
+
+Evaluating N axes' programs angle by angle costs N times the single-axis path in Python. A
+ProgramTable holds one motion program s(theta) over one cam cycle as a piecewise quintic Hermite
+table: knots on a uniform grid plus every segment joint and law breakpoint (program.breaks), with
+s, s', s'' the program's own at both ends of every interval, one-sided at a break (the interval
+after it starts with the values after it, the one before ends with those before), so every jump
+of a derivative falls on a knot. The grid is doubled from FIRST_INTERVALS until the table's
+errors, scanned on every interval and refined to the largest (extremes.refine_extrema, then
+times SAFETY), are at most ACCURACY of the program's stroke (position) and of its largest |s'|
+(velocity); the table keeps them (ProgramTable.errors).
+
+CompiledCams stacks the tables of N axes (each table's knots shifted by its place in the stack):
+one searchsorted and one polynomial evaluation give every axis's s, s', s'', s''' at its cam
+angle, and the chain rule with each axis's mapping (as ElectronicCam.derivatives: master offset
+and scaling, slave scaling and offset, an advancing program's advance per whole turn) its
+setpoints.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple, Sequence
+
+import numpy as np
+
+from ..arrays import FloatArray
+from ..cam_angles import TWO_PI
+from ..extremes import refine_extrema
+from ..motion.program import MotionProgram
+from ..motion.segment import segment_values
+from .master import ElectronicCam, Setpoints
+
+#: Largest error of a table: of the stroke (position) and of the largest |s'| (velocity).
+ACCURACY = 1e-9
+#: Uniform grid intervals per cam cycle: the first tried, and the most (doubling in between).
+FIRST_INTERVALS, MOST_INTERVALS = 64, 2 ** 14
+#: Grid knots nearer a break than this fraction of the grid spacing are left out (a sliver
+#: interval would turn the rounding of s into large derivatives).
+NEAREST_KNOT = 0.25
+#: Samples per interval of the error scan (its ends included).
+SCAN_SAMPLES = 8
+#: The errors stated are the refined largest times this: the exact program's own rounding makes
+#: the error noisy by a few percent where it is below 1e-12 of the stroke (polydyne.yaml).
+SAFETY = 1.5
+#: Where each stacked table's knots start: table j at j * STACK_SPACING (> 2 pi).
+STACK_SPACING = 8.0
+#: Factor of coefficient c[j + k] in the k-th derivative's coefficient of t**j: (j + k)! / j!.
+_FACTORS = np.array([[math.factorial(j + k) / math.factorial(j) if j + k < 6 else 0.0
+                      for j in range(6)] for k in range(4)])
+
+
+class TableErrors(NamedTuple):
+    """A table's largest errors against its program, and the scales they are measured against.
+
+    position, velocity: largest |s - s_table| and |s' - s'_table| over the cycle (per rad,
+    refined, times SAFETY);
+    stroke, slope: the program's range of s and largest |s'| over its values at the knots (its
+    true ones to rounding where the extremes are at breaks, else a little less: the bounds they
+    set err on the safe side).
+    """
+
+    position: float
+    velocity: float
+    stroke: float
+    slope: float
+
+    @property
+    def accurate(self) -> bool:
+        """Say whether both errors are within ACCURACY of their scales."""
+        return (self.position <= ACCURACY * self.stroke
+                and self.velocity <= ACCURACY * self.slope)
+
+
+@dataclass(frozen=True, eq=False)
+class ProgramTable:
+    """One program as a piecewise quintic: knots (local angle theta - start, 0 .. 2 pi) and rows.
+
+    rows[i, k, j] is the coefficient of t**j of the k-th derivative on the interval starting at
+    knot i (t = local angle - knots[i]); the last knot's row is zeros (never used).
+    """
+
+    program: MotionProgram
+    knots: FloatArray
+    rows: FloatArray
+    errors: TableErrors
+
+    def evaluate(self, theta: FloatArray) -> FloatArray:
+        """Return rows s, s', s'', s''' (per rad) at cam angles theta (rad, any real)."""
+        program = self.program
+        turns, local = np.divmod(np.asarray(theta, dtype=float) - program.start, TWO_PI)
+        values = _interpolate(self.knots, self.knots, self.rows, local, np.zeros(local.shape),
+                              np.full(local.shape, self.knots.size - 2))
+        values[0] += program.advance * turns
+        return values
+
+
+def compile_program(program: MotionProgram) -> ProgramTable:
+    """Return the program's table with the fewest grid intervals that meets ACCURACY, or the
+    finest tried (MOST_INTERVALS) with its errors if none does."""
+    intervals = FIRST_INTERVALS
+    while True:
+        table = _table(program, intervals)
+        if table.errors.accurate or intervals >= MOST_INTERVALS:
+            return table
+        intervals *= 2
+
+
+class CompiledCams:
+    """The cams of N axes, their tables stacked: every axis's setpoints at one master sample."""
+
+    def __init__(self, cams: Sequence[ElectronicCam], tables: Sequence[ProgramTable]):
+        """Stack the tables (tables[i]: cams[i].program's; one copy of each table)."""
+        self.cams = tuple(cams)
+        places: dict[int, int] = {}
+        for table in tables:
+            places.setdefault(id(table), len(places))
+        unique = {id(table): table for table in tables}.values()
+        self._knots = np.concatenate([table.knots for table in unique])
+        self._keys = np.concatenate([table.knots + STACK_SPACING * place
+                                     for place, table in enumerate(unique)])
+        self._rows = np.concatenate([table.rows for table in unique])
+        firsts = np.cumsum([0, *(table.knots.size for table in unique)])[:-1]
+        place = np.array([places[id(table)] for table in tables])
+        self._shift = STACK_SPACING * place
+        self._last = firsts[place] + np.array([table.knots.size - 2 for table in tables])
+        self._start = np.array([cam.program.start for cam in cams])
+        self._advance = np.array([cam.program.advance for cam in cams])
+        mappings = [cam.mapping for cam in cams]
+        self._offset = np.array([mapping.master_offset for mapping in mappings])
+        self._scaling = np.array([mapping.master_scaling for mapping in mappings])
+        self._slave_offset = np.array([mapping.slave_offset for mapping in mappings])
+        k = np.array([mapping.slave_scaling for mapping in mappings])
+        self._per_master = k[:, np.newaxis] / self._scaling[:, np.newaxis] ** np.arange(4)
+        #: Each axis's largest velocity error per rad/s of master (the table's, chained).
+        self.velocity_error = np.abs(self._per_master[:, 1]) * np.array(
+            [table.errors.velocity for table in tables])
+
+    def setpoints(self, master: float, omega: float, alpha: float) -> Setpoints:
+        """Return every axis's setpoints (arrays, one entry per axis) at a master sample."""
+        turns = (master - self._offset) / self._scaling
+        cycles, local = np.divmod(turns - self._start, TWO_PI)
+        values = _interpolate(self._keys, self._knots, self._rows, local, self._shift,
+                              self._last)
+        values[0] += self._advance * cycles
+        y, dy, d2y, d3y = values * self._per_master.T
+        y += self._slave_offset
+        return Setpoints(np.mod(turns, TWO_PI), y, dy * omega,
+                         d2y * (omega * omega) + dy * alpha,
+                         d3y * (omega * omega * omega) + 3.0 * d2y * (omega * alpha))
+
+
+def _interpolate(keys: FloatArray, knots: FloatArray, rows: FloatArray, local: FloatArray,
+                 shift: FloatArray, last: np.ndarray) -> FloatArray:
+    """Return rows s, s', s'', s''' at local angles in [0, 2 pi] of stacked tables.
+
+    keys: the knots shifted by their table's place; shift: each angle's table's; last: the
+    index of its table's last interval.
+    """
+    index = np.minimum(np.searchsorted(keys, local + shift, side='right') - 1, last)
+    index -= local < knots[index]  # the shift rounded an angle just below a knot onto it
+    t = local - knots[index]
+    powers = np.empty((t.size, 6))
+    powers[:, 0] = 1.0
+    powers[:, 1:] = t.reshape(-1, 1)
+    np.cumprod(powers, axis=1, out=powers)
+    values: FloatArray = np.einsum('nkj,nj->kn', rows[index], powers)
+    return values.reshape((4, *local.shape))
+
+
+def _table(program: MotionProgram, intervals: int) -> ProgramTable:
+    """Return the program's table on a grid of intervals per cycle, with its errors."""
+    knots, left, right = _knot_values(program, intervals)
+    h = np.diff(knots)
+    (y0, d0, a0), (y1, d1, a1) = left, right
+    gap = y1 - y0 - h * (d0 + 0.5 * a0 * h)  # what the quadratic from the left end misses
+    slope, bend = d1 - d0 - a0 * h, a1 - a0
+    c = np.zeros((knots.size, 6))
+    c[:-1, :3] = np.column_stack((y0, d0, 0.5 * a0))
+    c[:-1, 3] = (20.0 * gap - 8.0 * slope * h + bend * h * h) / (2.0 * h ** 3)
+    c[:-1, 4] = (-30.0 * gap + 14.0 * slope * h - 2.0 * bend * h * h) / (2.0 * h ** 4)
+    c[:-1, 5] = (12.0 * gap - 6.0 * slope * h + bend * h * h) / (2.0 * h ** 5)
+    rows = np.zeros((knots.size, 4, 6))
+    for order in range(4):
+        rows[:, order, :6 - order] = c[:, order:] * _FACTORS[order, :6 - order]
+    both = np.concatenate((left, right), axis=1)
+    scales = (float(np.ptp(both[0])), float(np.abs(both[1]).max()))
+    table = ProgramTable(program, knots, rows, TableErrors(0.0, 0.0, *scales))
+    object.__setattr__(table, 'errors', TableErrors(*_errors(table), *scales))
+    return table
+
+
+def _knot_values(program: MotionProgram, intervals: int
+                 ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Return the knots (local angles, 0 .. 2 pi) and rows s, s', s'' at each interval's left
+    end (the values after it) and right end (the values before it)."""
+    segments = program.segments
+    offsets = np.array([segment.start for segment in segments]) - program.start
+    owned = [0.0, *np.maximum.accumulate(offsets)[1:].tolist(), TWO_PI]  # as program.at
+    breaks = np.unique(np.concatenate((program.breaks - program.start, owned)))
+    grid = np.linspace(0.0, TWO_PI, intervals + 1)
+    nearest = np.abs(grid[:, np.newaxis] - breaks).min(axis=1)
+    grid = grid[nearest > NEAREST_KNOT * TWO_PI / intervals]
+    knots, lefts, rights = [], [], []
+    for number, segment in enumerate(segments):
+        low, high = owned[number], owned[number + 1]
+        if high <= low:
+            continue
+        span, offset = segment.span, float(offsets[number])
+        at = np.array(segment.law.breakpoints, dtype=float)
+        laws = offset + at * span
+        grid_in, law_in = grid[(grid > low) & (grid < high)], (laws > low) & (laws < high)
+        angles = np.concatenate((grid_in, laws[law_in]))
+        order = np.argsort(angles, kind='stable')
+        u_after = np.concatenate(((grid_in - offset) / span, at[law_in]))[order]
+        u_before = np.concatenate(((grid_in - offset) / span,
+                                   np.nextafter(at[law_in], -np.inf)))[order]
+        knots.append(np.concatenate(([low], angles[order])))
+        lefts.append(segment_values(segment, np.concatenate((
+            [max((low - offset) / span, 0.0)], u_after)))[:3])
+        rights.append(segment_values(segment, np.concatenate((
+            u_before, [min((high - offset) / span, 1.0)])))[:3])
+    ends = np.concatenate(knots + [[TWO_PI]])
+    return ends, np.concatenate(lefts, axis=1), np.concatenate(rights, axis=1)
+
+
+def _errors(table: ProgramTable) -> tuple[float, float]:
+    """Return the table's largest |error| of s and of s', refined from a scan of every
+    interval (SCAN_SAMPLES each)."""
+    program, knots = table.program, table.knots
+    fractions = np.arange(SCAN_SAMPLES - 1) / (SCAN_SAMPLES - 1)
+    local = (knots[:-1, np.newaxis] + np.diff(knots)[:, np.newaxis] * fractions).reshape(-1)
+    theta = program.start + np.unique(local)
+
+    def error(angles: FloatArray) -> FloatArray:
+        exact = program.evaluate(angles)
+        return np.abs(table.evaluate(angles)[:2] - np.array([exact.s, exact.ds]))
+
+    found = refine_extrema(error, theta, error(theta), ('max', 'max'),
+                           breaks=program.start + knots)
+    return SAFETY * found[0][0], SAFETY * found[1][0]
