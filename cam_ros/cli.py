@@ -34,7 +34,11 @@ CALL_FAILED = 'the service was not available, refused the request or did not ans
 ECHO_FAILED = 'the messages asked for (any, without --count/--once) did not arrive in --timeout'
 NODE_FAILED = 'the node was not found, did not answer in time or refused the request'
 ANY_FAILED = ('report, sample, plot, export: the design violates a limit; call, echo, record, '
-              'reload, param: the ROS request failed or was refused')
+              'reload, param, lifecycle: the ROS request failed or was refused')
+#: The transitions `cam_ros lifecycle set` takes (`ros2 lifecycle set`'s labels).
+TRANSITIONS = ('configure', 'activate', 'deactivate', 'cleanup', 'shutdown')
+LIFECYCLE_FAILED = ('the node was not found or did not answer in time, the transition is not '
+                    'available from its state, or the node refused it (its reason is printed)')
 STOPS_CLEANLY = 'Ctrl-C stops cleanly (exit 0)'
 
 
@@ -286,6 +290,20 @@ def _node_options(parser: argparse.ArgumentParser) -> None:
                         help='seconds to wait for the node and its answer (default 5)')
 
 
+def _actions(parser: argparse.ArgumentParser, failed: str,
+             actions: Sequence[tuple[str, str, str]]) -> dict[str, argparse.ArgumentParser]:
+    """Add ACTION subcommands (name, handler 'module:function', summary) to a node command."""
+    sub = parser.add_subparsers(dest='action', metavar='ACTION', required=True)
+    made = {}
+    for action, target, summary in actions:
+        made[action] = sub.add_parser(
+            action, help=summary, description=f'{summary[0].upper()}{summary[1:]}.',
+            epilog=exit_codes(failed), formatter_class=argparse.RawDescriptionHelpFormatter)
+        made[action].set_defaults(handler=target)
+        _node_options(made[action])
+    return made
+
+
 def _node_commands(sub: argparse._SubParsersAction) -> None:
     parser = _command(sub, 'record', 'cam_ros.commands.control:record',
                       'Start or stop recording', 'Through the node\'s ~/record service; prints '
@@ -304,21 +322,29 @@ def _node_commands(sub: argparse._SubParsersAction) -> None:
                       'Through the node\'s parameter services. `set` is atomic: all the '
                       'values are taken, or none and the node\'s reason is printed.',
                       exit_codes(NODE_FAILED))
-    actions = parser.add_subparsers(dest='action', metavar='ACTION', required=True)
-    made = {}
-    for action, summary in (('get', 'print parameter values'),
-                            ('set', 'set parameters atomically'),
-                            ('list', 'print every parameter and its value')):
-        made[action] = actions.add_parser(
-            action, help=summary, description=f'{summary.capitalize()}.',
-            epilog=exit_codes(NODE_FAILED),
-            formatter_class=argparse.RawDescriptionHelpFormatter)
-        made[action].set_defaults(handler=f'cam_ros.commands.control:param_{action}')
-        _node_options(made[action])
+    made = _actions(parser, NODE_FAILED, [
+        (action, f'cam_ros.commands.control:param_{action}', summary)
+        for action, summary in (('get', 'print parameter values'),
+                                ('set', 'set parameters atomically'),
+                                ('list', 'print every parameter and its value'))])
     made['get'].add_argument('names', nargs='+', metavar='NAME', help='parameter names')
     made['set'].add_argument('assignments', nargs='+', metavar='NAME VALUE',
                              help='names and values; values as YAML, as `ros2 param set` reads '
                                   'them (4.0 is a double, 4 an integer, [1.0, 2.0] an array)')
+
+
+def _lifecycle_command(sub: argparse._SubParsersAction) -> None:
+    parser = _command(sub, 'lifecycle', '', 'Get or change a managed node\'s state',
+                      'As `ros2 lifecycle get|set` does, through the node\'s lifecycle '
+                      'services (~/get_state, ~/get_available_transitions, ~/change_state).',
+                      exit_codes(LIFECYCLE_FAILED))
+    made = _actions(parser, LIFECYCLE_FAILED, (
+        ('get', 'cam_ros.commands.lifecycle:get',
+         'print the state as `ros2 lifecycle get` does: active [3]'),
+        ('set', 'cam_ros.commands.lifecycle:set_state',
+         'take a transition; print "from -> to"')))
+    made['set'].add_argument('transition', metavar='TRANSITION', choices=TRANSITIONS,
+                             help=', '.join(TRANSITIONS[:-1]) + f' or {TRANSITIONS[-1]}')
 
 
 def _recording_commands(sub: argparse._SubParsersAction) -> None:
@@ -383,6 +409,7 @@ def build_parser() -> argparse.ArgumentParser:
     _design_commands(sub)
     _ros_commands(sub)
     _node_commands(sub)
+    _lifecycle_command(sub)
     _recording_commands(sub)
     return parser
 
@@ -404,7 +431,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(done.code or 0)
     options = vars(args)
     command, target = options.pop('command'), options.pop('handler')
-    options.pop('action', None)  # the handler of `param get|set|list` is the action's
+    options.pop('action', None)  # the handler of `param`/`lifecycle ACTION` is the action's
     try:
         return _handler(target)(**options)
     except CamError as err:

@@ -5,13 +5,18 @@ A params file without `axes` is a single cam, served as a machine of one axis (j
 and so on, and share one master (MasterFollower). The node only holds parameters, endpoints and
 message conversions; every number comes from :mod:`cam_ros.core`. An invalid parameter update
 is rejected with the core's reason and the node keeps serving what it served.
+
+cam_node is a managed (lifecycle) node. Unconfigured it has the lifecycle and parameter
+services and its ROS parameters (use_sim_time, autostart) only; configure reads the params
+files, declares the cam parameters and makes every service and topic; inactive serves all but
+motion; active commands the axes; cleanup destroys what configure made.
 """
 from __future__ import annotations
 
-import math
 import sys
+from dataclasses import replace
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import rclpy
@@ -19,78 +24,194 @@ from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Vector3Stamped
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
-from rclpy.node import Node
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
+from rclpy.task import Future
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
 
 from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import CamDesign, CamError, check_angles, InvalidParameter
+from cam_ros.core.config.parameters import ParameterSpec
 from cam_ros.core.errors import one_line
 from cam_ros.core.machine import is_machine, Machine, parse_machine
 from cam_ros.core.config.schema import parse_parameters
 from cam_ros.core.machine.served import (collisions, machine_from_values, served_specs,
                                          update_refusal)
-from cam_ros.node.design_topics import as_float64, CAM_FRAME, DesignTopics
+from cam_ros.node.clock_state import ClockState
+from cam_ros.node.design_topics import as_float64, DesignTopics
+from cam_ros.node.lifecycle import Configured, guard_change_state
 from cam_ros.node.master_follower import MasterFollower
-from cam_ros.node.joints import CAM_JOINT, joint_coordinates
 from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.own_thread import OwnThread
 from cam_ros.node.qos_events import publisher
-from cam_ros.node.parameters import (declared_value, descriptor, parameter_sources,
-                                     ParameterSources, parse_command_line, plain, RECORDING_SWITCH,
-                                     reload_parameters, ros_node_parameters, start_rclpy, USAGE)
+from cam_ros.node.parameters import (AUTOSTART, autostart_descriptor, declared_value, descriptor,
+                                     parameter_sources, ParameterSources, parse_command_line,
+                                     plain, RECORDING_SWITCH, reload_parameters,
+                                     ros_node_parameters, start_rclpy, USAGE)
 from cam_ros.node.recording_switch import NodeRecording, Served
 from cam_ros.paths import default_config_path
 from cam_ros.rclpy_gaps import RCLError
 
 STATE_QOS = QoSProfile(depth=10)
+SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
 
 
-class CamNode(Node):
-    """Serves a machine (a single cam: one axis): evaluate services, latched profiles, state."""
+class CamNode(LifecycleNode):
+    """Serves a machine (a single cam: one axis): evaluate services, latched profiles, state.
+
+    A managed node (see the module docstring). With the autostart parameter (default true) the
+    constructor configures and activates it, as launch_ros's LifecycleNode(autostart=True) would.
+    """
 
     def __init__(self, params: ParameterSources | Path | None = None, **kwargs: Any):
-        """Check the parameters of params (a params file, default config/default.yaml), then serve.
+        """Take the params files (default config/default.yaml); with autostart, serve them.
 
-        The whole machine is checked before a parameter is declared (raises InvalidParameter),
-        its interference pairs too.
+        Raises InvalidParameter for a ROS node parameter (use_sim_time, autostart) of the wrong
+        type and, with autostart, for the design configure refuses (the whole machine is
+        checked before a cam parameter is declared, its interference pairs too).
         """
         self._sources = parameter_sources(params, default_config_path())
-        values = self._sources.read()
-        problem = collisions(machine_from_values(values))
-        if problem:
-            raise InvalidParameter('interference', None, f'collides: {problem}')
+        try:
+            values = self._sources.read()
+        except CamError:  # configure will say why; the -p overrides' ROS parameters still count
+            values = replace(self._sources, files=()).read()
         overrides = [*ros_node_parameters(values), *(kwargs.pop('parameter_overrides', ()) or ())]
+        self._configured: Configured | None = None  # rclpy's own callbacks are no part of it
         super().__init__('cam', allow_undeclared_parameters=True, parameter_overrides=overrides,
                          **kwargs)
+        self.declare_parameter(AUTOSTART, True, autostart_descriptor())
+        self._pending: Machine | None = None
+        self._unbuilt()
+        self._failure: Exception | None = None  # why the last configure failed
+        #: Done once the node is shut down (finalized): main() then ends the process.
+        self.finished = Future()
+        self.add_on_set_parameters_callback(self._validate_update)
+        self.add_post_set_parameters_callback(self._apply_update)
+        guard_change_state(self, self.get_logger().error, self._failed)
+        if self.get_parameter(AUTOSTART).value:
+            if self.trigger_configure() != SUCCESS:
+                failure = self._failure or RuntimeError('configure failed')
+                super().destroy_node()
+                raise failure
+            self.trigger_activate()
+
+    def _unbuilt(self) -> None:
+        """Forget what configure made (unconfigured)."""
+        self.machine: Machine | None = None
+        self._specs: dict[str, ParameterSpec] = {}
+        self._single = True
+        self._topics: list[DesignTopics] = []
+        self._evaluators: list[OwnThread] = []
+        self._ecam: MasterFollower | None = None
+        self._clock_state: ClockState | None = None
+        self._recording: NodeRecording | None = None
+
+    # Lifecycle ------------------------------------------------------------------------------
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Read and check the params files (again), then build what the machine serves.
+
+        A refused design fails the transition with its one-line reason; the node stays
+        unconfigured, as it was.
+        """
+        self._failure = None
+        try:
+            values = self._sources.read()
+            problem = collisions(machine_from_values(values))
+            if problem:
+                raise InvalidParameter('interference', None, f'collides: {problem}')
+            self._configured = Configured(self)
+            self._build(values)
+        except Exception as err:  # a bad design, or a bug: unconfigured all the same
+            self._failure = err
+            self._teardown('configure failed')
+            return FAILURE
+        return SUCCESS
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Command the axes: each engages in its engage mode from where it is held."""
+        if self._ecam:
+            self._ecam.activate()
+        elif self._clock_state:
+            self._clock_state.start()
+        self.get_logger().info('active: ' + ('commanding the axes' if self._ecam
+                                             else 'publishing the state'))
+        return SUCCESS
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Stop commanding: one hold command for every axis, then nothing."""
+        self._stop_motion()
+        self.get_logger().info('inactive: ' + ('axes held, master followed' if self._ecam
+                                               else 'state not published'))
+        return SUCCESS
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Destroy what configure made: back to unconfigured."""
+        self._teardown('cleanup')
+        self.get_logger().info('unconfigured')
+        return SUCCESS
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """End from any state: an active node holds its axes first."""
+        if state.label == 'active':
+            self._stop_motion()
+        self._teardown('shutdown')
+        self.get_logger().info('finalized')
+        self.finished.set_result(True)
+        return SUCCESS
+
+    def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """A transition raised: destroy what configure made and go back to unconfigured."""
+        self.get_logger().error(f'a {state.label} transition failed by an internal error: '
+                                'back to unconfigured')
+        self._teardown('error')
+        return SUCCESS
+
+    def _failed(self, label: str) -> str:
+        """Return why the transition of label failed, in one line."""
+        failure = self._failure
+        if label == 'configure' and failure is not None:
+            return one_line(str(failure) if isinstance(failure, CamError)
+                            else f'internal error: {failure!r}')
+        return 'an internal error (see the line before)'
+
+    def _stop_motion(self) -> None:
+        if self._ecam:
+            self._ecam.deactivate()
+        elif self._clock_state:
+            self._clock_state.stop()
+
+    def add_on_set_parameters_callback(self, callback: Callable[..., Any]) -> None:
+        """Add a parameter check; one that configure adds, cleanup removes."""
+        super().add_on_set_parameters_callback(callback)
+        if self._configured is not None:
+            self._configured.callbacks.append(callback)
+
+    def _build(self, values: dict[str, Any]) -> None:
+        """Declare the cam parameters of values and make every endpoint (inactive)."""
         self._specs = served_specs(values)
         for name, spec in self._specs.items():  # undeclared names reach _validate_update
             self.declare_parameter(name, declared_value(spec, values, name),
                                    descriptor(spec, name))
-        self.machine: Machine = machine_from_values(self._current_values())
+        self.machine = machine_from_values(self._current_values())
         self._single = not is_machine(values)
-        self._pending: Machine | None = None
-        self.add_on_set_parameters_callback(self._validate_update)
-        self.add_post_set_parameters_callback(self._apply_update)
-
         self._topics = [DesignTopics(self, axis.name, '~/' if self._single else f'~/{axis.name}/')
                         for axis in self.machine.axes]
-        self._joint_pub = publisher(self, JointState, '~/joint_states', STATE_QOS)
-        self._extras_pub = publisher(self, Vector3Stamped, '~/state_extras', STATE_QOS)
+        joint_pub = publisher(self, JointState, '~/joint_states', STATE_QOS)
+        extras_pub = publisher(self, Vector3Stamped, '~/state_extras', STATE_QOS)
         self._ecam = MasterFollower.attach(self, self._axes(), self.machine.config.parameters,
-                                           not self._single, self._joint_pub,
-                                           lambda: self._recording.recorder)
-        self._start_ns = self.get_clock().now().nanoseconds
-        self._state_timer = self.create_timer(1.0 / self.design.config.state_rate_hz,
-                                              self._publish_state)
-        if self._ecam:  # the master axis drives the state instead
-            self._state_timer.cancel()
+                                           not self._single, joint_pub,
+                                           lambda: self._recording and self._recording.recorder)
+        if self._ecam:  # inactive: master messages tracked, nothing commanded
+            self._ecam.deactivate()
+        else:  # the clock drives the state, while active
+            self._clock_state = ClockState(self, lambda: self.machine, self._single,
+                                           joint_pub, extras_pub)
         self._recording = NodeRecording(
             self, self._sources.files[-1],
-            (*(pub for topics in self._topics for pub in topics.publishers), self._joint_pub,
-             self._extras_pub), self._ecam)
+            (*(pub for topics in self._topics for pub in topics.publishers), joint_pub,
+             extras_pub), self._ecam)
         self._recording.start_up(self._served())
         self._publish_design()
         self._log_design()
@@ -112,7 +233,25 @@ class CamNode(Node):
         services = ', '.join(self.resolve_service_name(evaluator.entity.srv_name)
                              for evaluator in self._evaluators)
         self.get_logger().info(f'serving {services}; topics {", ".join(topics)}; '
-                               f'state {pace}')
+                               f'state {pace} while active')
+
+    def _teardown(self, why: str) -> None:
+        """Destroy what configure made (stopping its threads first) and undeclare the cam
+        parameters; a running recording is closed. Nothing to do when unconfigured."""
+        configured, self._configured = self._configured, None
+        if configured is None:
+            return
+        for evaluator in self._evaluators:
+            evaluator.stop()
+        if self._recording:
+            self._recording.stop(why)
+        if self._ecam:
+            self._ecam.stop()
+        configured.destroy()
+        for name in self._specs:
+            if self.has_parameter(name):
+                self.undeclare_parameter(name)
+        self._unbuilt()
 
     @property
     def design(self) -> CamDesign:
@@ -146,6 +285,13 @@ class CamNode(Node):
         self._pending = None
         if not cam:  # ROS's own parameters (use_sim_time)
             return SetParametersResult(successful=True)
+        if self.machine is None:  # unconfigured, or configure declaring the cam parameters
+            for param in cam:
+                if param.name not in self._specs:
+                    return SetParametersResult(successful=False, reason=str(InvalidParameter(
+                        param.name, plain(param.value), 'cannot be set while the node is '
+                        'unconfigured (configure declares the cam parameters)')))
+            return SetParametersResult(successful=True)
         try:
             values = self._current_values()
             for param in cam:
@@ -175,10 +321,12 @@ class CamNode(Node):
         if any(param.name != RECORDING_SWITCH for param in updates):  # not the switch alone
             if self._ecam:
                 self._ecam.change(self._axes(), self.machine.config.parameters)
-            self._state_timer.timer_period_ns = int(1e9 / self.design.config.state_rate_hz)
+            if self._clock_state:
+                self._clock_state.follow_rate()
             self._publish_design()
             self._log_design()
-        self._recording.follow(updates, self._served())
+        if self._recording:
+            self._recording.follow(updates, self._served())
 
     def _log_design(self) -> None:
         for axis in self.machine.axes:
@@ -247,65 +395,17 @@ class CamNode(Node):
         return response
 
     def destroy_node(self) -> None:
-        """Stop the ~/evaluate threads, close a running recording (writing its summary), then go.
+        """Destroy what configure made (its threads end first, a recording is closed), then go.
 
-        The evaluate and master threads end before the node and its entities are destroyed.
+        The axes are not held: Ctrl-C and SIGTERM have shut the context down already.
         """
-        for evaluator in self._evaluators:
-            evaluator.stop()
-        self._recording.stop('node shutting down')
-        if self._ecam:
-            self._ecam.stop()
+        self._teardown('node shutting down')
         super().destroy_node()
 
     # Topics -------------------------------------------------------------------------------
     def _publish_design(self) -> None:
         for topics, axis in zip(self._topics, self.machine.axes):
             topics.publish(axis.design)
-
-    def _publish_state(self) -> None:
-        """Publish every axis's state at the machine angle the clock says (master.source clock).
-
-        The master turns at the speed of cam_speed; each axis's cam angle follows through its
-        master offset and scaling (a single cam's, with neither, turns at cam_speed from 0).
-        """
-        now = self.get_clock().now()
-        master = self.machine.axes[0].cam.mapping
-        speed = self.design.config.cam_speed * master.master_scaling  # master speed
-        machine_angle = master.master_offset + speed * (now.nanoseconds - self._start_ns) * 1e-9
-        stamp = now.to_msg()
-        positions, velocities, efforts = [], [], []
-        states = []
-        for axis in self.machine.axes:
-            turned = float(axis.cam.mapping.turns(machine_angle))
-            state = axis.design.evaluate(np.array([turned]))  # an advancing one counts turns
-            _, offset, sign = joint_coordinates(axis.design)
-            positions.append(offset + sign * float(state.position[0]))
-            velocities.append(sign * float(state.velocity[0]))
-            states.append(state)
-            if state.dynamics is not None:  # camshaft torque about +z; normal contact force
-                torque = float(state.dynamics.camshaft_torque[0])
-                efforts.append(float(state.dynamics.contact_force[0]))
-        sigma = joint_coordinates(self.design)[0] if self._single else 1.0
-        cam = math.fmod(float(master.turns(machine_angle)) if self._single else machine_angle,
-                        2 * math.pi)
-        joints = JointState(name=[CAM_JOINT, *self.machine.config.names],
-                            position=[sigma * cam, *positions],
-                            velocity=[sigma * (self.design.config.cam_speed if self._single
-                                               else speed), *velocities])
-        joints.header.stamp = stamp
-        joints.header.frame_id = CAM_FRAME
-        if self._single and states[0].dynamics is not None:
-            torque = float(states[0].dynamics.camshaft_torque[0])
-            joints.effort = [-torque if self.design.clockwise else torque, efforts[0]]
-        self._joint_pub.publish(joints)
-        if self._single:  # one axis's acceleration, jerk and pressure angle
-            extras = Vector3Stamped()
-            extras.header = joints.header
-            extras.vector.x = float(states[0].acceleration[0])
-            extras.vector.y = float(states[0].jerk[0])
-            extras.vector.z = float(states[0].pressure_angle[0])
-            self._extras_pub.publish(extras)
 
 
 def _invalid(message: str) -> int:
@@ -315,7 +415,8 @@ def _invalid(message: str) -> int:
 
 
 def main(args: Sequence[str] | None = None) -> int:
-    """Run cam_node until Ctrl-C or SIGTERM; exit 2 with one line on invalid input."""
+    """Run cam_node until Ctrl-C, SIGTERM or its shutdown transition; exit 2 with one line on
+    invalid input (with autostart: a design configure refuses)."""
     argv = list(sys.argv if args is None else args)
     try:
         command = parse_command_line(argv, default_config_path())
@@ -340,7 +441,7 @@ def main(args: Sequence[str] | None = None) -> int:
     try:
         node = CamNode(command.sources)
         executor.add_node(node)
-        executor.spin()
+        executor.spin_until_future_complete(node.finished)  # the shutdown transition ends it
     except CamError as err:
         code = _invalid(str(err))
     except (KeyboardInterrupt, ExternalShutdownException):

@@ -24,7 +24,8 @@ import rclpy
 from rclpy.parameter import Parameter
 
 from cam_ros.core import InvalidParameter
-from cam_ros.core.config.parameters import ParameterSpec, REQUIRED, ROS_NODE_PARAMETERS
+from cam_ros.core.config.parameters import (check_type, ParameterSpec, REQUIRED,
+                                            ROS_NODE_PARAMETERS)
 from cam_ros.core.config.params_file import parse_yaml, read_parameters_file
 from cam_ros.rclpy_gaps import RCLError
 
@@ -42,6 +43,8 @@ VALUED_ROS_FLAGS = {'-r', '--remap', '-p', '--param', '--params-file', '-e', '--
 PARAMETER_FLAGS = {'-p', '--param', '--params-file'}
 #: The recording's one switch: ~/record sets it, setting it starts or stops the recording.
 RECORDING_SWITCH = 'recording.enabled'
+#: The managed node's start-up switch: true configures and activates it at start-up.
+AUTOSTART = 'autostart'
 
 
 def descriptor(spec: ParameterSpec, name: str | None = None) -> ParameterDescriptor:
@@ -107,8 +110,19 @@ def split_rule(rule: str) -> tuple[str, str, str]:
 
 
 def ros_node_parameters(values: Mapping[str, Any]) -> list[Parameter]:
-    """Return rclpy's own node parameters (use_sim_time) that values give, for the node."""
-    return [Parameter(name, value=values[name]) for name in ROS_NODE_PARAMETERS if name in values]
+    """Return the ROS node parameters (use_sim_time, autostart) values give, type-checked.
+
+    Raises InvalidParameter for a value of the wrong type, as the core's check of a file does.
+    """
+    return [Parameter(name, value=check_type(spec, values[name]))
+            for name, spec in ROS_NODE_PARAMETERS.items() if name in values]
+
+
+def autostart_descriptor() -> ParameterDescriptor:
+    """Return the descriptor of cam_node's read-only AUTOSTART parameter."""
+    spec = ROS_NODE_PARAMETERS[AUTOSTART]
+    return ParameterDescriptor(name=AUTOSTART, type=ROS_TYPES[spec.type], read_only=True,
+                               description=f'{spec.description}. Type: {spec.type}.')
 
 
 @dataclass(frozen=True)
@@ -231,6 +245,21 @@ Serve a cam design, or a machine of cam axes, to ROS 2 (SI units; docs/ros-inter
 has the details). A machine file (with axes) serves each axis's services and latched topics
 under its name (~/<axis>/evaluate, ~/<axis>/profile, ...) and one master path for all.
 
+A managed (lifecycle) node: with autostart true (the default; -p autostart:=false to
+wait) it configures and activates itself at start-up. Unconfigured it serves only
+  ~/change_state      lifecycle_msgs/ChangeState: configure, activate, deactivate,
+                      cleanup, shutdown (as `ros2 lifecycle set` or `cam_ros lifecycle set`)
+  ~/get_state         lifecycle_msgs/GetState: unconfigured, inactive, active, finalized
+  ~/get_available_states       lifecycle_msgs/GetAvailableStates
+  ~/get_available_transitions  lifecycle_msgs/GetAvailableTransitions: from this state
+  ~/get_transition_graph       lifecycle_msgs/GetAvailableTransitions: all of them
+and its parameters use_sim_time and autostart; configure reads the params files and
+declares the cam parameters. Inactive: all below, parameter updates too, but no motion:
+nothing on ~/commands, ~/joint_trajectory, ~/switches, ~/switch_state, ~/joint_states,
+~/state_extras (master messages are followed: the speed estimate stays warm). Activate:
+each axis engages in master.engage_mode from where it is held; deactivate: one hold
+command per axis. Cleanup: back to unconfigured. Shutdown ends the process (exit 0).
+
 services:
   ~/evaluate          cam_ros_interfaces/EvaluateCam: motion, geometry, dynamics at angles
   ~/reload            std_srvs/Trigger: re-read the params files and -p overrides
@@ -263,12 +292,14 @@ master message) instead of the clock, ~/state_extras stays silent, and
 
 The parameters come from the params files, in order (config/default.yaml if none is
 given), then from the -p overrides. They are checked exactly as `cam_ros report` checks
-a file, before the node starts. Other ROS arguments (remapping, logging) go to rclpy.
+a file, at configure (again at each configure: the files are read anew). Other ROS
+arguments (remapping, logging) go to rclpy.
 
 options:
   -h, --help  show this help and exit
 
 exit codes:
-  0  stopped by Ctrl-C or SIGTERM
+  0  stopped by Ctrl-C, SIGTERM or the shutdown transition
   2  invalid params file, -p override or argument: one line "cam_node: <message>"
+     (with autostart false a refused params file fails configure; the node lives on)
 '''
