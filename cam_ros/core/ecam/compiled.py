@@ -9,7 +9,8 @@ after it starts with the values after it, the one before ends with those before)
 of a derivative falls on a knot. The grid is doubled from FIRST_INTERVALS until the table's
 errors, scanned on every interval and refined to the largest (extremes.refine_extrema, then
 times SAFETY), are at most ACCURACY of the program's stroke (position) and of its largest |s'|
-(velocity); the table keeps them (ProgramTable.errors).
+(velocity), and further while that halves the position error, down to the exact program's own
+rounding (ROUNDING); the table keeps them (ProgramTable.errors).
 
 CompiledCams stacks the tables of N axes (each table's knots shifted by its place in the stack):
 one searchsorted and one polynomial evaluation give every axis's s, s', s'', s''' at its cam
@@ -34,6 +35,9 @@ from .master import ElectronicCam, Setpoints
 
 #: Largest error of a table: of the stroke (position) and of the largest |s'| (velocity).
 ACCURACY = 1e-9
+#: The grid is refined further, while that halves the position error, down to this fraction of
+#: the stroke: the exact program's own rounding (a few ulps).
+ROUNDING = 1e-15
 #: Uniform grid intervals per cam cycle: the first tried, and the most (doubling in between).
 FIRST_INTERVALS, MOST_INTERVALS = 64, 2 ** 14
 #: Grid knots nearer a break than this fraction of the grid spacing are left out (a sliver
@@ -97,14 +101,21 @@ class ProgramTable:
 
 
 def compile_program(program: MotionProgram) -> ProgramTable:
-    """Return the program's table with the fewest grid intervals that meets ACCURACY, or the
-    finest tried (MOST_INTERVALS) with its errors if none does."""
-    intervals = FIRST_INTERVALS
+    """
+    Return the program's table, as exact as its rounding allows.
+
+    The grid doubles until the table meets ACCURACY and its position error is down to
+    ROUNDING of the stroke or no longer halves (the exact program's own rounding); at
+    MOST_INTERVALS it stops, with its errors, met or not.
+    """
+    intervals, before = FIRST_INTERVALS, math.inf
     while True:
         table = _table(program, intervals)
-        if table.errors.accurate or intervals >= MOST_INTERVALS:
+        errors = table.errors
+        settled = errors.position <= ROUNDING * errors.stroke or errors.position > before / 2
+        if errors.accurate and settled or intervals >= MOST_INTERVALS:
             return table
-        intervals *= 2
+        intervals, before = 2 * intervals, errors.position
 
 
 class CompiledCams:

@@ -212,6 +212,29 @@ class Follower:
         self.held, self._velocity = float(point.position), float(point.velocity)
         return point
 
+    def steady(self, state: MasterState) -> Optional[ElectronicCam]:
+        """
+        Return the cam whose setpoints alone are this sample's command, or None.
+
+        That is the cam the slave is engaged on (on its whole turns) when nothing else is due
+        at the sample: no engagement to begin, blend, pending design, stop, new master origin,
+        one-shot end, or cam speed over the slave's limits. Its setpoints, unless they move
+        against slave.direction, are what command() returns; taking them with took() leaves the
+        follower as command() does. None: call command().
+        """
+        path = self._path
+        if self.phase != ENGAGED or state.origin or self.handover is not None or (
+                self._pending and self.wanted) or not isinstance(path, ElectronicCam):
+            return None
+        cycle = TWO_PI * self.cam.mapping.master_scaling
+        if not self.config.periodic and abs(state.track - self._start) >= cycle:
+            return None
+        return None if self._cam_problem(state.omega, velocity_only=True) else path
+
+    def took(self, state: MasterState, position: float, velocity: float) -> None:
+        """Note the position and velocity commanded at a sample from steady()'s cam."""
+        self._last, self.held, self._velocity = state, position, velocity
+
     def ahead(self, state: MasterState, times: np.ndarray) -> Setpoints:
         """Return the setpoints at times (s) from now if the master keeps its speed."""
         master = state.track + state.omega * times
