@@ -277,9 +277,13 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
         target.write_text(text, encoding='utf-8')
     within = '' if limit is None else \
         f' within a tolerance of {ceil_sig(limit * factor)} {unit}'
+    worst = f'{ceil_sig((table.max_error + extra) * factor)} {unit}'
+    if interpolation in TABLE_FORMATS[table_format].unstated:
+        worst = (f'not stated by the {table_format} manual (under the {interpolation} '
+                 f'interpolation assumed: {worst})')
     print(f'wrote {target}: cam table of {len(table.master_deg) - (end_point is False)} '
           f'points ({table_format}, {interpolation} interpolation){within}, worst deviation '
-          f'{ceil_sig((table.max_error + extra) * factor)} {unit}')
+          f'{worst}')
     note = size_note(table_format, len(table.master_deg) - (end_point is False))
     if note:
         print(f'note: {note}')
@@ -294,16 +298,19 @@ def export_machine_tables(config: str, output: str, points: int | None, toleranc
                           derivatives: bool) -> int:
     """Write one cam table per axis of a machine file into the folder output, named by axis."""
     from cam_ros.core.machine import build_machine, parse_machine
+    from cam_ros.output.cam_table_formats import check_target
 
     folder = Path(output)
     if folder.exists() and not folder.is_dir():
         raise InvalidParameter('-o', output, 'must be a folder for a machine file\'s tables '
                                '(one per axis)')
     machine = build_machine(parse_machine(read_parameters_file(config)))
-    for axis in machine.axes if tolerance is not None else ():  # every axis's, before writing
+    for axis in machine.axes:  # every axis is checked before any table is written
         try:
-            positive_quantity('--tolerance', tolerance, axis.design,
-                              angular=axis.design.config.angular)
+            check_target(table_format, axis.design)
+            if tolerance is not None:
+                positive_quantity('--tolerance', tolerance, axis.design,
+                                  angular=axis.design.config.angular)
         except InvalidParameter as err:
             raise InvalidParameter(err.parameter, err.value,
                                    f'{err.rule} for axis {axis.name}') from err

@@ -83,15 +83,22 @@ def request_once(node: Node, executor: SingleThreadedExecutor, service_type: Any
 def _position_unit(node: Node, executor: SingleThreadedExecutor, service: str,
                    deadline: float) -> str:
     """Ask the serving node its follower's position unit: 'm', or 'rad' (an oscillating arm or
-    a rotary slave, length_unit deg)."""
+    a rotary slave, length_unit deg); a machine axis's service asks its node for the axis's."""
     from rcl_interfaces.srv import GetParameters
 
     node_name = node.resolve_service_name(service).rpartition('/')[0]
     if not node_name:
         return 'm|rad'
+    prefix = ''
+    machine, _, axis = node_name.rpartition('/')  # a machine axis's /<node>/<axis>/evaluate
+    nodes = {f'{space.rstrip("/")}/{name}' for name, space in
+             node.get_node_names_and_namespaces()}
+    if node_name not in nodes and machine in nodes:
+        node_name, prefix = machine, f'{axis}.'
     short = min(deadline, time.monotonic() + UNIT_QUERY_TIMEOUT_S)
     response, _ = request_once(node, executor, GetParameters, f'{node_name}/get_parameters',
-                               GetParameters.Request(names=['follower.type', 'length_unit']),
+                               GetParameters.Request(names=[f'{prefix}follower.type',
+                                                            f'{prefix}length_unit']),
                                short, UNIT_QUERY_TIMEOUT_S)
     if response is None or len(response.values) != 2:
         return 'm|rad'

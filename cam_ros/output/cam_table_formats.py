@@ -57,6 +57,13 @@ class TableFormat:
     source: str = ''
     #: File name ending of a table written per axis of a machine (export -o DIR).
     suffix: str = '.txt'
+    #: Who interpolates the rows so, where a manual says it (said beside the method).
+    interpolated_by: str = ''
+
+    def method(self, interpolation: str) -> str:
+        """Say how the rows are interpolated, and by whom where the manual says it."""
+        return METHODS[interpolation] + (f', as {self.interpolated_by}'
+                                          if self.interpolated_by else '')
 
 
 def _rows(values: np.ndarray, separator: str) -> list[str]:
@@ -92,7 +99,8 @@ FORMATS: dict[str, TableFormat] = {
                        comments=False, source='MOVI-C library parameter '
                                               'gc_uMaxNumberOfInterpPoints', suffix='.csv'),
     # CODESYS SoftMotion interpolates an XYVA cam by fifth-degree polynomials through X, Y, V, A.
-    'xyva': TableFormat('always', _write_csv, interpolations=('quintic',), suffix='.csv'),
+    'xyva': TableFormat('always', _write_csv, interpolations=('quintic',), suffix='.csv',
+                        interpolated_by='CODESYS SoftMotion interpolates XYVA cams'),
     'st': TableFormat('never', _write_st, suffix='.st'),
     'lenze': TableFormat('never', write_lenze, no_advance=NO_ADVANCE.format('Cam Loader'),
                          unstated=('linear',)),
@@ -113,8 +121,7 @@ METHODS = {
     'linear': 'linear',
     'cubic': 'cubic Hermite, slopes from the velocity column',
     'quintic': 'quintic Hermite (on each interval the fifth-degree polynomial through the '
-               'position, velocity and acceleration at both ends, as CODESYS SoftMotion '
-               'interpolates XYVA cams)',
+               'position, velocity and acceleration at both ends)',
 }
 
 
@@ -140,7 +147,7 @@ def check_options(name: str, interpolation: str | None,
                 ' or xyva' if chosen == 'quintic' else '')
         else:
             rule = (f'--format {name} is interpolated by its target by '
-                    f'{METHODS[target.interpolations[0]]}: give '
+                    f'{target.method(target.interpolations[0])}: give '
                     f'{" or ".join(target.interpolations)} or leave --interpolation out')
         raise InvalidParameter('--interpolation', interpolation, rule)
     if target.derivatives == 'never' and derivatives:
@@ -184,12 +191,13 @@ def _notes(table: CamTable, design: CamDesign, name: str, source: str, rows: int
                f'{ceil_sig(table.tolerance * factor)} {unit} (greedy; segment boundaries are '
                f'points)'
                if table.tolerance is not None else f'equidistant, every {360.0 / steps:.12g} deg')
-    method = METHODS[table.interpolation]
+    method = FORMATS[name].method(table.interpolation)
     worst = table.max_error * factor + rounding
     if table.interpolation in FORMATS[name].unstated:
         exactness = (f'interpolation assumed: {method}, but the {name} manual does not define '
-                     f'the target\'s interpolation: its deviation is not stated (under linear '
-                     f'interpolation it would be {ceil_sig(worst)} {unit})')
+                     f'the target\'s interpolation: its deviation is not stated (under the '
+                     f'{table.interpolation} interpolation assumed it is {ceil_sig(worst)} '
+                     f'{unit})')
     else:
         exactness = (f'interpolation assumed: {method}; worst deviation from the exact law '
                      f'{ceil_sig(worst)} {unit} (dense check of every interval, rounded up)')

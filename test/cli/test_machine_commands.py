@@ -216,7 +216,9 @@ def test_one_axis_alone_is_its_cam_over_its_own_cam_angle(capsys):
 @pytest.mark.parametrize('argv, fragments', [
     (('plot', MACHINE, '-o', 'x.png'), ('axes = ', 'machine file', '--axis NAME',
                                         '--timing-diagram')),
-    (('export', MACHINE, '-o', 'x.csv', '--cam-table'), ('machine file', '--axis NAME')),
+    (('export', MACHINE, '-o', 'x.nc', '--machining', '--cutter-radius', '5', '--tolerance',
+      '0.01'),
+     ('machine file', '--axis NAME')),
     (('export', MACHINE, '-o', 'x.dxf'), ('machine file', '--axis NAME')),
     (('report', DEFAULT_CONFIG, '--axis', 'jaw'), ('--axis', 'machine files', 'one cam')),
     (('report', MACHINE, '--axis', 'knfe'), ("'knfe'", 'not an axis', 'did you mean knife')),
