@@ -62,8 +62,8 @@ class TableFormat:
 
     def method(self, interpolation: str) -> str:
         """Say how the rows are interpolated, and by whom where the manual says it."""
-        return METHODS[interpolation] + (f', as {self.interpolated_by}'
-                                          if self.interpolated_by else '')
+        by = f', as {self.interpolated_by}' if self.interpolated_by else ''
+        return METHODS[interpolation] + by
 
 
 def _rows(values: np.ndarray, separator: str) -> list[str]:
