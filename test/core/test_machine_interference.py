@@ -83,7 +83,7 @@ def test_the_shipped_machine_clears_with_the_stated_margins():
     assert clearance.value / MM == pytest.approx(value, abs=1e-9)
     assert clearance.value / MM <= value + 1e-12  # never the lenient side
     assert clearance.at == pytest.approx(at, abs=1e-6)
-    assert clearance.ok and clearance.value / MM > 32.4  # config/machine.yaml: 32.5 mm
+    assert clearance.ok and clearance.value / MM > 32.4  # config/machine.yaml: 32.48 mm
     expected = margin(lambda t: jaw(t) - 60.0, lambda t: knife(t) - 320.0)
     assert zones.value == pytest.approx(expected, abs=1e-9)
     assert zones.ok and math.degrees(zones.value) > 70.5  # config/machine.yaml: 70.5 deg
