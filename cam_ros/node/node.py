@@ -163,8 +163,8 @@ class CamNode(LifecycleNode):
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
         """A transition raised: destroy what configure made and go back to unconfigured."""
-        self.get_logger().error(f'a {state.label} transition failed by an internal error: '
-                                'back to unconfigured')
+        self.get_logger().error(f'a transition from {state.label} failed by an internal '
+                                'error: back to unconfigured')
         self._teardown('error')
         return SUCCESS
 

@@ -287,6 +287,8 @@ master message) instead of the clock, ~/state_extras stays silent, and
   ~/engage_requests   cam_ros_interfaces/EngageRequest, latched: each answered ~/engage
   ~/state             diagnostic_msgs/DiagnosticStatus, latched: engaged, holding, end
                       of profile..., and the switch tracks
+  ~/controller_state  cam_ros_interfaces/ControllerState: per axis report on
+                      slave.state_topic: reference, feedback, following error
   /diagnostics        diagnostic_msgs/DiagnosticArray, about 1 Hz: design, master,
                       engagement, recording
 
