@@ -18,6 +18,7 @@ from benchmarks.core import (core_figures, evaluate_figures, geometry_figures, l
                              memory_figure, report_figure)
 from benchmarks.dynamics import evaluate_figure, vibration_figure
 from benchmarks.ecam import ecam_figures, EcamSizes
+from benchmarks.machine import machine_figures, MachineSizes
 from benchmarks.recording import recording_figures, RecordingSizes
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO, RosGraph
@@ -40,6 +41,7 @@ class Sizes:
     service: ServiceSizes = field(default_factory=ServiceSizes)
     recording: RecordingSizes = field(default_factory=RecordingSizes)
     ecam: EcamSizes = field(default_factory=EcamSizes)
+    machine: MachineSizes = field(default_factory=MachineSizes)
 
 
 def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figure]:
@@ -57,6 +59,7 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
         figures.extend(service_figures(graph, sizes.service))
         figures.extend(recording_figures(graph, workdir, sizes.recording))
         figures.extend(ecam_figures(graph, sizes.ecam))
+        figures.extend(machine_figures(graph, sizes.machine))
     return figures
 
 

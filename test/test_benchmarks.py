@@ -7,6 +7,7 @@ from pathlib import Path
 
 from benchmarks.__main__ import benchmark, Sizes
 from benchmarks.ecam import EcamSizes
+from benchmarks.machine import MachineSizes
 from benchmarks.recording import RecordingSizes
 from benchmarks.service import ServiceSizes
 
@@ -19,7 +20,9 @@ TINY = Sizes(
     recording=RecordingSizes(rates_hz=(500.0,), rate_seconds=0.3, sweep_rounds=1,
                              loop_rate_hz=500.0, loop_seconds=0.1, loop_rounds=1,
                              drop_rate_hz=500.0, drop_seconds=0.3),
-    ecam=EcamSizes(seconds=0.5, warmup_seconds=0.2))
+    ecam=EcamSizes(seconds=0.5, warmup_seconds=0.2),
+    machine=MachineSizes(axes=(1, 3), latency_axes=3, cpu_axes=3, seconds=0.3,
+                         warmup_seconds=0.1))
 FIGURES = {
     'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
     'design_geometry_ms', 'design_evaluate_1000', 'design_evaluate_peak_memory_1000',
@@ -29,7 +32,8 @@ FIGURES = {
     'service_p50_ms', 'service_p99_ms', 'batch_100_ms', 'batch_1000_ms',
     'startup_s', 'node_peak_rss_mib', 'node_peak_rss_batch_1000_mib', 'recorder_messages_per_s',
     'recorder_written_at_500_hz', 'recording_publish_overhead', 'ecam_latency_p50_ms',
-    'ecam_latency_p99_ms',
+    'ecam_latency_p99_ms', 'machine_latency_p50_ms', 'machine_latency_p99_ms',
+    'machine_cpu_us_per_message',
 }
 FIGURE_FIELDS = {'key', 'name', 'value', 'unit', 'reference', 'reference_value', 'target', 'note',
                  'inverse', 'extra', 'ratio', 'met'}
@@ -39,7 +43,8 @@ TARGETED = {'service_p50_ms', 'service_p99_ms', 'design_report_ms',
             'recording_publish_overhead',
             'design_evaluate_dynamics_ms', 'design_report_vibration_ms', 'service_dynamics_p50_ms',
             'ecam_latency_p50_ms',
-            'ecam_latency_p99_ms'}
+            'ecam_latency_p99_ms', 'machine_latency_p50_ms', 'machine_latency_p99_ms',
+            'machine_cpu_us_per_message'}
 
 
 def test_benchmarks_run_on_tiny_sizes_and_write_sane_results(tmp_path: Path) -> None:
@@ -66,6 +71,17 @@ def test_benchmarks_run_on_tiny_sizes_and_write_sane_results(tmp_path: Path) -> 
     ecam = results['figures']['ecam_latency_p50_ms']  # says how loaded the machine was
     assert (f"cam_node {ecam['extra']['cpu_us_per_message']:.0f} us, relay "
             f"{ecam['extra']['relay_cpu_us_per_message']:.0f} us") in ecam['note']
+
+    machine = results['figures']['machine_latency_p50_ms']  # the curve, every node in turn
+    curve = machine['extra']['curve']
+    assert set(curve) == {'single', 'machine1', 'machine3'}
+    for name, row in curve.items():
+        assert row['p50_ms'] <= row['p99_ms'] and row['cpu_us_per_message'] > 0, name
+        assert f"{name} {row['p50_ms']:.3f} / {row['p99_ms']:.3f}" in machine['note']
+    assert results['figures']['machine_cpu_us_per_message']['value'] == \
+        curve['machine3']['cpu_us_per_message']
+    assert 0 < machine['extra']['command_us_compiled'] < machine['extra'][
+        'command_us_exact_per_axis'] * 10
 
     assert markdown_path.read_text() == table
     rows = [line for line in table.splitlines() if line.startswith('| ')]

@@ -108,6 +108,18 @@ def test_a_jump_of_a_derivative_is_kept_on_its_side():
         assert before == pytest.approx(jump.left, abs=1e-6 * peak)
 
 
+@pytest.mark.parametrize('name', ['machine.yaml:knife', 'default.yaml'])
+def test_an_angle_just_below_a_whole_turn_that_rounds_up_to_it_is_the_turn_s_end(name):
+    table = TABLES[name]
+    program = table.program
+    theta = np.array([program.start - 1e-300, program.start - 1e-17])
+    assert np.all(np.mod(theta - program.start, TWO_PI) == TWO_PI)  # rounded up onto the turn
+    exact = program.evaluate(theta)
+    got = table.evaluate(theta)
+    assert np.abs(got[0] - exact.s).max() <= ACCURACY * table.errors.stroke
+    assert np.abs(got[1] - exact.ds).max() <= ACCURACY * table.errors.slope
+
+
 def test_the_feeder_rise_is_the_cycloid_written_out():
     table = TABLES['machine.yaml:feeder']
     beta, stroke = math.radians(140.0), 0.2  # 200 mm over 0-140 deg

@@ -27,8 +27,8 @@ from .master import ElectronicCam, Setpoints
 from .master_tracker import MasterState
 
 #: Fewest axes whose steady commands come from the compiled tables: one pass costs about as much
-#: as 2.5 axes' exact paths (about 17 us against 7 us an axis; benchmarks/machine.py).
-COMPILED_FROM = 3
+#: as 1.5 axes' exact paths (about 11 us against 7 us an axis; benchmarks/machine.py).
+COMPILED_FROM = 2
 #: The velocity error taken for a tabled command near backward under slave.direction: this
 #: many times the table's refined largest.
 DIRECTION_MARGIN = 2.0
@@ -105,7 +105,7 @@ class SlaveAxes:
         rows = [array.tolist() for array in points]
         for follower, position, velocity in zip(self.followers, rows[1], rows[2]):
             follower.took(state, position, velocity)
-        return [Setpoints(*values) for values in zip(*rows)]
+        return list(map(Setpoints._make, zip(*rows)))
 
     def _compile(self, cams: Sequence[ElectronicCam]) -> Optional[CompiledCams]:
         """Return the cams' stacked tables (None if a table misses ACCURACY); keep the tables

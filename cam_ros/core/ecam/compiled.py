@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple, Sequence
+from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
@@ -53,6 +53,7 @@ STACK_SPACING = 8.0
 #: Factor of coefficient c[j + k] in the k-th derivative's coefficient of t**j: (j + k)! / j!.
 _FACTORS = np.array([[math.factorial(j + k) / math.factorial(j) if j + k < 6 else 0.0
                       for j in range(6)] for k in range(4)])
+_POWERS = np.arange(6)
 
 
 class TableErrors(NamedTuple):
@@ -82,7 +83,8 @@ class ProgramTable:
     """One program as a piecewise quintic: knots (local angle theta - start, 0 .. 2 pi) and rows.
 
     rows[i, k, j] is the coefficient of t**j of the k-th derivative on the interval starting at
-    knot i (t = local angle - knots[i]); the last knot's row is zeros (never used).
+    knot i (t = local angle - knots[i]); the last knot's row is the last interval's polynomial
+    about 2 pi, for a local angle of 2 pi itself (an angle just below a whole turn rounded up).
     """
 
     program: MotionProgram
@@ -93,11 +95,11 @@ class ProgramTable:
     def evaluate(self, theta: FloatArray) -> FloatArray:
         """Return rows s, s', s'', s''' (per rad) at cam angles theta (rad, any real)."""
         program = self.program
-        turns, local = np.divmod(np.asarray(theta, dtype=float) - program.start, TWO_PI)
-        values = _interpolate(self.knots, self.knots, self.rows, local, np.zeros(local.shape),
-                              np.full(local.shape, self.knots.size - 2))
+        angles = np.asarray(theta, dtype=float)
+        turns, local = np.divmod(angles.reshape(-1) - program.start, TWO_PI)
+        values = _interpolate(self.knots, *_padded([self]), local)
         values[0] += program.advance * turns
-        return values
+        return values.reshape((4, *angles.shape))
 
 
 def compile_program(program: MotionProgram) -> ProgramTable:
@@ -124,60 +126,70 @@ class CompiledCams:
     def __init__(self, cams: Sequence[ElectronicCam], tables: Sequence[ProgramTable]):
         """Stack the tables (tables[i]: cams[i].program's; one copy of each table)."""
         self.cams = tuple(cams)
-        places: dict[int, int] = {}
-        for table in tables:
-            places.setdefault(id(table), len(places))
-        unique = {id(table): table for table in tables}.values()
-        self._knots = np.concatenate([table.knots for table in unique])
-        self._keys = np.concatenate([table.knots + STACK_SPACING * place
-                                     for place, table in enumerate(unique)])
-        self._rows = np.concatenate([table.rows for table in unique])
-        firsts = np.cumsum([0, *(table.knots.size for table in unique)])[:-1]
-        place = np.array([places[id(table)] for table in tables])
-        self._shift = STACK_SPACING * place
-        self._last = firsts[place] + np.array([table.knots.size - 2 for table in tables])
-        self._start = np.array([cam.program.start for cam in cams])
-        self._advance = np.array([cam.program.advance for cam in cams])
+        unique = list({id(table): table for table in tables}.values())
+        place = np.array([unique.index(table) for table in tables])
+        self._keys = np.concatenate([table.knots + STACK_SPACING * number
+                                     for number, table in enumerate(unique)])
+        self._knots, self._rows = _padded(unique)
+        self._shift = None if len(unique) == 1 else STACK_SPACING * place
         mappings = [cam.mapping for cam in cams]
-        self._offset = np.array([mapping.master_offset for mapping in mappings])
-        self._scaling = np.array([mapping.master_scaling for mapping in mappings])
+        scaling = np.array([mapping.master_scaling for mapping in mappings])
+        starts = np.array([cam.program.start for cam in cams])
+        # (q - q0) / m - start = q / m - (q0 / m + start)
+        self._per_turn = 1.0 / scaling
+        self._origin = np.array([mapping.master_offset for mapping in mappings]) / scaling \
+            + starts
+        self._start = starts if starts.any() else None
+        advance = np.array([cam.program.advance for cam in cams])
+        self._advance = advance if advance.any() else None
         self._slave_offset = np.array([mapping.slave_offset for mapping in mappings])
         k = np.array([mapping.slave_scaling for mapping in mappings])
-        self._per_master = k[:, np.newaxis] / self._scaling[:, np.newaxis] ** np.arange(4)
+        self._per_master = k / scaling ** np.arange(4)[:, np.newaxis]  # rows: k / m**order
         #: Each axis's largest velocity error per rad/s of master (the table's, chained).
-        self.velocity_error = np.abs(self._per_master[:, 1]) * np.array(
+        self.velocity_error = np.abs(self._per_master[1]) * np.array(
             [table.errors.velocity for table in tables])
 
     def setpoints(self, master: float, omega: float, alpha: float) -> Setpoints:
         """Return every axis's setpoints (arrays, one entry per axis) at a master sample."""
-        turns = (master - self._offset) / self._scaling
-        cycles, local = np.divmod(turns - self._start, TWO_PI)
-        values = _interpolate(self._keys, self._knots, self._rows, local, self._shift,
-                              self._last)
-        values[0] += self._advance * cycles
-        y, dy, d2y, d3y = values * self._per_master.T
+        cycles, local = np.divmod(master * self._per_turn - self._origin, TWO_PI)
+        values = _interpolate(self._keys, self._knots, self._rows, local, self._shift)
+        if self._advance is not None:
+            values[0] += self._advance * cycles
+        values *= self._per_master  # y - y0 and its derivatives per rad of master
+        w = omega
+        chain = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, w, 0.0, 0.0], [0.0, alpha, w * w, 0.0],
+                          [0.0, 0.0, 3.0 * w * alpha, w * w * w]])  # master.chain_rule's
+        y, velocity, acceleration, jerk = chain @ values
         y += self._slave_offset
-        return Setpoints(np.mod(turns, TWO_PI), y, dy * omega,
-                         d2y * (omega * omega) + dy * alpha,
-                         d3y * (omega * omega * omega) + 3.0 * d2y * (omega * alpha))
+        angle = local if self._start is None else np.mod(local + self._start, TWO_PI)
+        return Setpoints(angle, y, velocity, acceleration, jerk)
+
+
+def _padded(tables: Sequence[ProgramTable]) -> tuple[FloatArray, FloatArray]:
+    """Return the tables' knots and rows concatenated after one unused entry: the interval of
+    knot i is then entry i + 1, the index searchsorted(side='right') gives."""
+    knots = np.concatenate([[0.0], *(table.knots for table in tables)])
+    rows = np.concatenate([np.zeros((1, 4, 6)), *(table.rows for table in tables)])
+    return knots, rows
 
 
 def _interpolate(keys: FloatArray, knots: FloatArray, rows: FloatArray, local: FloatArray,
-                 shift: FloatArray, last: np.ndarray) -> FloatArray:
-    """Return rows s, s', s'', s''' at local angles in [0, 2 pi] of stacked tables.
-
-    keys: the knots shifted by their table's place; shift: each angle's table's; last: the
-    index of its table's last interval.
+                 shift: Optional[FloatArray] = None) -> FloatArray:
     """
-    index = np.minimum(np.searchsorted(keys, local + shift, side='right') - 1, last)
-    index -= local < knots[index]  # the shift rounded an angle just below a knot onto it
+    Return rows s, s', s'', s''' at local angles in [0, 2 pi] (1-D) of stacked tables.
+
+    keys: the knots, each table's shifted by its place; shift: the shift of each angle's table
+    (None: a single table, unshifted); knots and rows as _padded gives them.
+    """
+    if shift is None:
+        index = np.searchsorted(keys, local, side='right')
+    else:
+        index = np.searchsorted(keys, local + shift, side='right')
+        index -= local < knots[index]  # the shift rounded an angle just below a knot onto it
     t = local - knots[index]
-    powers = np.empty((t.size, 6))
-    powers[:, 0] = 1.0
-    powers[:, 1:] = t.reshape(-1, 1)
-    np.cumprod(powers, axis=1, out=powers)
-    values: FloatArray = np.einsum('nkj,nj->kn', rows[index], powers)
-    return values.reshape((4, *local.shape))
+    values: FloatArray = np.einsum('nkj,nj->kn', rows[index],
+                                   np.power(t[:, np.newaxis], _POWERS))
+    return values
 
 
 def _table(program: MotionProgram, intervals: int) -> ProgramTable:
@@ -192,6 +204,9 @@ def _table(program: MotionProgram, intervals: int) -> ProgramTable:
     c[:-1, 3] = (20.0 * gap - 8.0 * slope * h + bend * h * h) / (2.0 * h ** 3)
     c[:-1, 4] = (-30.0 * gap + 14.0 * slope * h - 2.0 * bend * h * h) / (2.0 * h ** 4)
     c[:-1, 5] = (12.0 * gap - 6.0 * slope * h + bend * h * h) / (2.0 * h ** 5)
+    # The last interval about its end (a Taylor shift by h): sum_j C(j, m) c_j h**(j - m).
+    c[-1] = [sum(math.comb(j, m) * c[-2, j] * h[-1] ** (j - m) for j in range(m, 6))
+             for m in range(6)]
     rows = np.zeros((knots.size, 4, 6))
     for order in range(4):
         rows[:, order, :6 - order] = c[:, order:] * _FACTORS[order, :6 - order]

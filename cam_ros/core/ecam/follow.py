@@ -226,10 +226,12 @@ class Follower:
         if self.phase != ENGAGED or state.origin or self.handover is not None or (
                 self._pending and self.wanted) or not isinstance(path, ElectronicCam):
             return None
-        cycle = TWO_PI * self.cam.mapping.master_scaling
-        if not self.config.periodic and abs(state.track - self._start) >= cycle:
+        if not self.config.periodic and abs(state.track - self._start) >= \
+                TWO_PI * self.cam.mapping.master_scaling:
             return None
-        return None if self._cam_problem(state.omega, velocity_only=True) else path
+        if self.limits.limited and self._cam_problem(state.omega, velocity_only=True):
+            return None
+        return path
 
     def took(self, state: MasterState, position: float, velocity: float) -> None:
         """Note the position and velocity commanded at a sample from steady()'s cam."""
