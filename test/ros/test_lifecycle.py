@@ -13,12 +13,14 @@ from cam_ros_interfaces.srv import EvaluateCam
 from conftest import CONFIG_DIR, SERVICE_TIMEOUT_S, STOP_TIMEOUT_S, wait_for_service
 from lifecycle_msgs.msg import State, Transition
 from lifecycle_support import ALLOWED, call, managed_node
-from rcl_interfaces.srv import ListParameters
+from rcl_interfaces.srv import ListParameters, SetParameters
+from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 from sensor_msgs.msg import JointState
 from test_node import Inbox
 
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.recording import open_recording
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
 ANGLES = np.radians([0.0, 95.0, 135.0, 250.0])
@@ -60,12 +62,14 @@ def ended(managed) -> int:
 
 def test_autostart_false_waits_unconfigured_and_each_state_serves_what_it_should(
         executor, tmp_path):
-    with managed_node(executor, tmp_path, DEFAULT) as managed:
-        walk_the_states(managed)
+    folder = tmp_path / 'recordings'
+    with managed_node(executor, tmp_path, DEFAULT, '-p', 'recording.enabled:=true', '-p',
+                      f'recording.directory:={folder}') as managed:
+        walk_the_states(managed, folder)
 
 
-def walk_the_states(managed) -> None:
-    """Take a clock-driven node through every state, checking what each serves."""
+def walk_the_states(managed, folder) -> None:
+    """Take a clock-driven node (recording from configure on) through every state."""
     joints = Inbox(managed.node, JointState, '/cam/joint_states', QoSProfile(depth=1000))
     unconfigured = (State.PRIMARY_STATE_UNCONFIGURED, 'unconfigured')
     assert managed.state() == unconfigured
@@ -92,6 +96,13 @@ def walk_the_states(managed) -> None:
     np.testing.assert_array_equal(answer.position, design().evaluate(ANGLES).position)
     time.sleep(QUIET_S)
     assert joints.messages == []  # inactive: the clock's state is not published
+    update = managed.node.create_client(SetParameters, '/cam/set_parameters')
+    assert update.wait_for_service(timeout_sec=SERVICE_TIMEOUT_S)
+    radius = Parameter('follower.base_radius', value=4.5).to_parameter_msg()
+    assert call(update, SetParameters.Request(parameters=[radius])).results[0].successful
+    answer = call(evaluate, EvaluateCam.Request(angles=list(ANGLES)))
+    np.testing.assert_array_equal(answer.pressure_angle, design(
+        **{'follower.base_radius': 4.5}).evaluate(ANGLES).pressure_angle)
 
     assert managed.change('activate')
     assert managed.state() == (State.PRIMARY_STATE_ACTIVE, 'active')
@@ -105,6 +116,9 @@ def walk_the_states(managed) -> None:
     assert len(joints.messages) == count
     assert managed.change('cleanup')
     assert managed.state() == unconfigured
+    [recording] = folder.glob('*.mcap')  # started by configure, closed by cleanup
+    assert open_recording(recording).complete
+    assert 'recording stopped (cleanup)' in managed.process.log()
     until(lambda: '/cam/evaluate' not in managed.services(), '~/evaluate still served')
     assert parameters(managed) == ROS_OWN
     assert '/cam/joint_states' not in dict(managed.node.get_publisher_names_and_types_by_node(
