@@ -63,16 +63,18 @@ class MasterFollower:
     @classmethod
     def attach(cls, node: Node, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-               recorder: Callable[[], Recorder | None]) -> MasterFollower | None:
+               recorder: Callable[[], Recorder | None],
+               active: bool = True) -> MasterFollower | None:
         """Return the component if master.source is topic, else None."""
         refuse_rewiring(node)
         if MasterConfig.from_config(axes[0][1].config).source != 'topic':
             return None
-        return cls(node, axes, switches, machine, joint_pub, recorder)
+        return cls(node, axes, switches, machine, joint_pub, recorder, active)
 
     def __init__(self, node: Node, axes: Sequence[tuple[str, CamDesign]],
                  switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-                 recorder: Callable[[], Recorder | None]):
+                 recorder: Callable[[], Recorder | None], active: bool = True):
+        """Follow the master; inactive (a managed node's state) until activate() unless active."""
         self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
         self._machine = machine
         first = axes[0][1].config
@@ -99,7 +101,7 @@ class MasterFollower:
         self._changed_after: int | None = None
         self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
-        self._active = True  # a managed node's inactive state sends nothing
+        self._active = active  # a managed node's inactive state sends nothing
         self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
         self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)

@@ -200,12 +200,12 @@ class CamNode(LifecycleNode):
                         for axis in self.machine.axes]
         joint_pub = publisher(self, JointState, '~/joint_states', STATE_QOS)
         extras_pub = publisher(self, Vector3Stamped, '~/state_extras', STATE_QOS)
+        # Inactive from the start: master messages tracked, nothing commanded.
         self._ecam = MasterFollower.attach(self, self._axes(), self.machine.config.parameters,
                                            not self._single, joint_pub,
-                                           lambda: self._recording and self._recording.recorder)
-        if self._ecam:  # inactive: master messages tracked, nothing commanded
-            self._ecam.deactivate()
-        else:  # the clock drives the state, while active
+                                           lambda: self._recording and self._recording.recorder,
+                                           active=False)
+        if not self._ecam:  # the clock drives the state, while active
             self._clock_state = ClockState(self, lambda: self.machine, self._single,
                                            joint_pub, extras_pub)
         self._recording = NodeRecording(
