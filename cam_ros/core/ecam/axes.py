@@ -16,7 +16,7 @@ path, which decides the stop.
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import cast, Optional, Sequence
 
 import numpy as np
 
@@ -102,7 +102,7 @@ class SlaveAxes:
             doubt = DIRECTION_MARGIN * abs(state.omega) * compiled.velocity_error
             if ((way != 0) & (way * points.velocity <= doubt) & (points.velocity != 0.0)).any():
                 return None
-        rows = [array.tolist() for array in points]
+        rows = [cast(np.ndarray, array).tolist() for array in points]  # arrays, one per axis
         for follower, position, velocity in zip(self.followers, rows[1], rows[2]):
             follower.took(state, position, velocity)
         return list(map(Setpoints._make, zip(*rows)))
