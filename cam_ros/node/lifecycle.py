@@ -6,7 +6,7 @@
   for a transition the current state does not have (rcl: 'Transition is not registered'),
   which would end the node, and refuses one asked by label without a word; guarded, both are
   answered false and the node says why.
-- The state machine itself: rclpy keeps it in LifecycleNode._state_machine (no public getter).
+- The state machine itself: rclpy keeps it private (rclpy_gaps.state_machine).
 """
 from __future__ import annotations
 
@@ -15,6 +15,8 @@ from typing import Any, Callable
 from lifecycle_msgs.srv import ChangeState
 from rclpy.lifecycle import LifecycleNode
 from rclpy.node import Node
+
+from cam_ros.rclpy_gaps import change_state_service, state_machine
 
 #: The node's entity kinds: (the node's attribute listing them, its method destroying one).
 ENTITY_KINDS = (('timers', 'destroy_timer'), ('services', 'destroy_service'),
@@ -46,12 +48,12 @@ class Configured:
 
 def current_state(node: LifecycleNode) -> str:
     """Return the label of the node's primary state (rclpy keeps it in its state machine)."""
-    return node._state_machine.current_state[1]
+    return state_machine(node).current_state[1]
 
 
 def transition_labels(node: LifecycleNode) -> list[str]:
     """Return the labels of the transitions the node's current state has."""
-    return [description[1] for description in node._state_machine.available_transitions]
+    return [description[1] for description in state_machine(node).available_transitions]
 
 
 def guard_change_state(node: LifecycleNode, refused: Callable[[str], None],
@@ -61,13 +63,13 @@ def guard_change_state(node: LifecycleNode, refused: Callable[[str], None],
     A transition the current state lacks is refused without being tried; one that fails says
     reason(label) (why the node failed the transition of that label).
     """
-    service = node._service_change_state
+    service = change_state_service(node)
     answer = service.callback
 
     def guarded(request: ChangeState.Request,
                 response: ChangeState.Response) -> ChangeState.Response:
         asked = request.transition
-        found = [label for number, label, *_ in node._state_machine.available_transitions
+        found = [label for number, label, *_ in state_machine(node).available_transitions
                  if (label == asked.label if asked.label else number == asked.id)]
         if not found:
             refused(f'transition {asked.label or asked.id} is not available from '
