@@ -16,7 +16,7 @@ path, which decides the stop.
 """
 from __future__ import annotations
 
-from typing import cast, Optional, Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
@@ -95,17 +95,17 @@ class SlaveAxes:
         compiled = self._compiled
         if compiled is None:
             return None
-        points = compiled.setpoints(state.track, state.omega, state.alpha)
+        angle, values = compiled.rows(state.track, state.omega, state.alpha)
         directions = [follower.limits.direction for follower in self.followers]
         if any(directions):
-            way = np.array(directions)
+            way, velocity = np.array(directions), values[1]
             doubt = DIRECTION_MARGIN * abs(state.omega) * compiled.velocity_error
-            if ((way != 0) & (way * points.velocity <= doubt) & (points.velocity != 0.0)).any():
+            if ((way != 0) & (way * velocity <= doubt) & (velocity != 0.0)).any():
                 return None
-        rows = [cast(np.ndarray, array).tolist() for array in points]  # arrays, one per axis
-        for follower, position, velocity in zip(self.followers, rows[1], rows[2]):
+        rows = values.tolist()
+        for follower, position, velocity in zip(self.followers, rows[0], rows[1]):
             follower.took(state, position, velocity)
-        return list(map(Setpoints._make, zip(*rows)))
+        return list(map(Setpoints._make, zip(angle.tolist(), *rows)))
 
     def _compile(self, cams: Sequence[ElectronicCam]) -> Optional[CompiledCams]:
         """Return the cams' stacked tables (None if a table misses ACCURACY); keep the tables

@@ -151,6 +151,12 @@ class CompiledCams:
 
     def setpoints(self, master: float, omega: float, alpha: float) -> Setpoints:
         """Return every axis's setpoints (arrays, one entry per axis) at a master sample."""
+        angle, (position, velocity, acceleration, jerk) = self.rows(master, omega, alpha)
+        return Setpoints(angle, position, velocity, acceleration, jerk)
+
+    def rows(self, master: float, omega: float,
+             alpha: float) -> tuple[FloatArray, FloatArray]:
+        """Return every axis's cam angle, and rows position, velocity, acceleration, jerk."""
         cycles, local = np.divmod(master * self._per_turn - self._origin, TWO_PI)
         values = _interpolate(self._keys, self._knots, self._rows, local, self._shift)
         if self._advance is not None:
@@ -159,10 +165,9 @@ class CompiledCams:
         w = omega
         chain = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, w, 0.0, 0.0], [0.0, alpha, w * w, 0.0],
                           [0.0, 0.0, 3.0 * w * alpha, w * w * w]])  # master.chain_rule's
-        y, velocity, acceleration, jerk = chain @ values
-        y += self._slave_offset
-        angle = local if self._start is None else np.mod(local + self._start, TWO_PI)
-        return Setpoints(angle, y, velocity, acceleration, jerk)
+        rows: FloatArray = chain @ values
+        rows[0] += self._slave_offset
+        return local if self._start is None else np.mod(local + self._start, TWO_PI), rows
 
 
 def _padded(tables: Sequence[ProgramTable]) -> tuple[FloatArray, FloatArray]:
