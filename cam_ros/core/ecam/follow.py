@@ -39,8 +39,8 @@ from .engage import Blend, Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .slave_limits import (AxisUnit, CamPeaks, join_turns, Peaks, Plan, plan_blend, shifted,
-                           SlaveLimits)
+from .slave_limits import (AxisUnit, CamPeaks, join_turns, Peaks, Plan, plan_blend, plan_speed,
+                           shifted, SlaveLimits)
 from .stop import Stop
 
 IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
@@ -266,15 +266,6 @@ class Follower:
         """Return the cam on the whole slave turns the slave joined it at."""
         return shifted(self.cam, self._turns, self.limits)
 
-    def _plan_speed(self, state: MasterState) -> float:
-        """
-        Return the master speed a blend is planned for: at least the speed at cam_speed.
-
-        Blends are planned at constant master speed: the master's own acceleration alpha adds
-        y' alpha to a blend's acceleration as it does to the cam's (and its estimate is noisy).
-        """
-        return math.copysign(max(abs(state.omega), self.config.nominal_speed), state.omega or 1.0)
-
     def _cam_peaks(self, omega: float, alpha: float) -> Peaks:
         """Return the cam's own peaks at a master speed and acceleration."""
         peaks = self._peaks[1]
@@ -294,7 +285,7 @@ class Follower:
     def _plan(self, start: SlavePath, cam: ElectronicCam, state: MasterState,
               held: bool) -> Plan | str:
         """Return the shortest blend within the limits onto the cam (whole turns chosen)."""
-        omega = self._plan_speed(state)
+        omega = plan_speed(state.omega, self.config.nominal_speed)
         position = float(start.derivatives(state.track).y)
         if self.limits.limited:
             cam_peaks = self._cam_peaks(omega, 0.0)
@@ -309,19 +300,10 @@ class Follower:
         if not found:
             return str(plans[-1])
         _, self._turns, plan = min(found, key=lambda each: each[0])
-        self._said_plan(plan, omega)
+        note = plan.note(omega, self.unit)
+        if note:
+            self.events.append(note)
         return plan
-
-    def _said_plan(self, plan: Plan, omega: float) -> None:
-        """Note a blend whose peaks exceed the cam's own at the planning speed."""
-        peaks, cam = plan.peaks, plan.cam
-        if peaks.velocity > cam.velocity or peaks.acceleration > cam.acceleration:
-            self.events.append(
-                f'blend over {math.degrees(plan.blend.distance):.6g} deg of master peaks at '
-                f'{self.unit.say(peaks.velocity, "/s")} and '
-                f'{self.unit.say(peaks.acceleration, "/s^2")} at master speed {omega:.6g} '
-                f'rad/s (the cam itself: {self.unit.say(cam.velocity, "/s")}, '
-                f'{self.unit.say(cam.acceleration, "/s^2")})')
 
     def _next_cycle_problem(self, origin: Optional[float]) -> str:
         """Say why next_cycle cannot start from origin ('' if it can, or for another mode)."""
@@ -339,7 +321,7 @@ class Follower:
     def _begin(self, state: MasterState) -> None:
         """Start an engagement at this master sample in the configured mode."""
         track, origin, mode = state.track, self._origin(), self.config.mode
-        problem = self._cam_problem(self._plan_speed(state))
+        problem = self._cam_problem(plan_speed(state.omega, self.config.nominal_speed))
         if problem:
             self.phase, self.reason = HOLDING, problem
             return

@@ -177,6 +177,26 @@ class Plan(NamedTuple):
     peaks: Peaks
     cam: Peaks
 
+    def note(self, omega: float, unit: AxisUnit) -> str:
+        """Say the blend's peaks where they exceed the cam's own ('' where they do not)."""
+        peaks, cam = self.peaks, self.cam
+        if peaks.velocity <= cam.velocity and peaks.acceleration <= cam.acceleration:
+            return ''
+        return (f'blend over {math.degrees(self.blend.distance):.6g} deg of master peaks at '
+                f'{unit.say(peaks.velocity, "/s")} and {unit.say(peaks.acceleration, "/s^2")} '
+                f'at master speed {omega:.6g} rad/s (the cam itself: '
+                f'{unit.say(cam.velocity, "/s")}, {unit.say(cam.acceleration, "/s^2")})')
+
+
+def plan_speed(omega: float, nominal: float) -> float:
+    """
+    Return the master speed a blend is planned for: at least the speed at cam_speed (nominal).
+
+    Blends are planned at constant master speed: the master's own acceleration alpha adds
+    y' alpha to a blend's acceleration as it does to the cam's (and its estimate is noisy).
+    """
+    return math.copysign(max(abs(omega), nominal), omega or 1.0)
+
 
 def _blend_peaks(blend: Blend, omega: float, alpha: float, direction: int,
                  cam: ElectronicCam) -> Peaks:
