@@ -23,26 +23,47 @@ def g3(value: float) -> str:
     return f'{value:.3g}'
 
 
+def verdict(figure: dict[str, Any]) -> str:
+    """Return a targeted figure's bound and whether the run met it, as the prose states them."""
+    return f"target {figure['target'].split()[-1]}: {'met' if figure['met'] else 'missed'}"
+
+
+def against(figure: dict[str, Any], unit: str) -> str:
+    """Return 'value against reference unit' with 3 significant digits."""
+    return f"{g3(figure['value'])} against {g3(figure['reference_value'])} {unit}"
+
+
 def benchmark_quotes() -> list[str]:
     """Return the run's figures as docs/benchmarks.md quotes them in its prose."""
     run = figures('results')
     f = run['figures']
     machine = run['machine']
+    service, ecam, dynamics = (f['service_p50_ms'], f['ecam_latency_p50_ms'],
+                               f['design_evaluate_dynamics_ms'])
+    recording = f['recording_publish_overhead']
+    p50, p99, cpu = (f['machine_latency_p50_ms'], f['machine_latency_p99_ms'],
+                     f['machine_cpu_us_per_message'])
     return [
         f"Run of {run['date'][:10]} {run['date'][11:16]}",
         f"{machine['cores']} cores, Python {machine['python'][:4]}, "
         f"NumPy {machine['numpy'][:3]}; {run['run_time_s']:.0f} s)",
-        f"Service p50 {g3(f['service_p50_ms']['ratio'])}× SetBool "
-        f"({g3(f['service_p50_ms']['value'])} against {g3(f['service_p50_ms']['reference_value'])}"
-        ' ms',
-        f"p99 is met ({f['service_p99_ms']['ratio']:.2f}×)",
-        f"E-cam p50 {g3(f['ecam_latency_p50_ms']['ratio'])}× the relay",
-        f"Publish loop with recording on {g3(f['recording_publish_overhead']['ratio'])}× off",
-        f"This run: off {g3(f['recording_publish_overhead']['reference_value'])} us",
-        f"the recording on {g3(f['recording_publish_overhead']['value'])} us",
-        f"Evaluate with dynamics {g3(f['design_evaluate_dynamics_ms']['ratio'])}× without",
+        f"Service p50 {g3(service['ratio'])}× SetBool ({against(service, 'ms')}; "
+        f"{verdict(service)})",
+        f"p99 is {'met' if f['service_p99_ms']['met'] else 'missed'} "
+        f"({f['service_p99_ms']['ratio']:.2f}×",
+        f"E-cam p50 {g3(ecam['ratio'])}× the relay ({against(ecam, 'ms')}; {verdict(ecam)}",
+        f"Publish loop with recording on {g3(recording['ratio'])}× off ({verdict(recording)}",
+        f"This run: off {g3(recording['reference_value'])} us",
+        f"the recording on {g3(recording['value'])} us",
+        f"Evaluate with dynamics {g3(dynamics['ratio'])}× without ({against(dynamics, 'ms')}; "
+        f"{verdict(dynamics)}",
         f"compares `design_report` with one 7,200-sample geometry pass: "
         f"{f['design_report_ms']['ratio']:.0f}× here",
+        f"p50 at 16 axes {g3(p50['ratio'])}× the single axis ({against(p50, 'ms')}; "
+        f"{verdict(p50)})",
+        f"p99 at 16 axes {g3(p99['ratio'])}× ({against(p99, 'ms')}; {verdict(p99)})",
+        f"CPU at 32 axes {g3(cpu['ratio'])}× ({cpu['value']:.0f} against "
+        f"{cpu['reference_value']:.0f} µs a master message; {verdict(cpu)})",
     ]
 
 
@@ -89,9 +110,15 @@ def test_generated_benchmark_table_is_results_json_as_make_bench_writes_it() -> 
 
 def test_generated_table_follows_a_changed_results_file() -> None:
     run = figures('results')
-    run['figures']['service_p50_ms'].update(value=9.87, ratio=10.75, met=False)
+    keys = list(run['figures'])
+    figure = run['figures']['service_p50_ms']
+    mark = sum(1 for key in keys[:keys.index('service_p50_ms') + 1] if run['figures'][key]['note'])
+    reference = figure['reference_value']
+    figure.update(value=9.87, ratio=9.87 / reference, met=False)
     table = TABLES['markdown_table'](run['figures'].values())
-    assert '| /cam/evaluate, 1 angle, p50 [10] | 9.87 ms | SetBool p50: 0.918 ms | 10.8 |' in table
+    row = (f"| {figure['name']} [{mark}] | 9.87 ms | {figure['reference']}: {g3(reference)} ms | "
+           f"{g3(9.87 / reference)} | {figure['target']} | **no** |")
+    assert row in table.splitlines()
     assert table not in (DOCS / 'benchmarks.md').read_text()
 
 
