@@ -239,7 +239,7 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
     from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
                                                   table_rounding)
-    from cam_ros.output.rounding import ceil_sig
+    from cam_ros.core.rounding import ceil_sig
     from cam_ros.core.config.quantity import split_quantity
     from cam_ros.core.ecam.cam_table import CamTable, equidistant_table, tolerance_table
 
@@ -352,7 +352,7 @@ def _export_motion_function(design: CamDesign, config: str, target: Path,
     from cam_ros.output.characteristics_text import characteristic_notes
     from cam_ros.output.motion_function_text import (motion_function_text, segment_notes,
                                                      UNUSED)
-    from cam_ros.output.rounding import ceil_sig
+    from cam_ros.core.rounding import ceil_sig
 
     unit, factor = design.config.file_position_unit
     check_target(MOTION_FUNCTIONS, design)

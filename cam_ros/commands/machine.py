@@ -18,11 +18,10 @@ from cam_ros.commands.common import (csv_column, dump_json, end_progress, format
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import InvalidParameter, parse_parameters, read_parameters_file
 from cam_ros.core.cam_angles import cam_degrees
-from cam_ros.core.config.parameters import UNITS
 from cam_ros.core.machine import (build_machine, check_interference, is_machine, Machine,
                                   machine_report, PairCheck, parse_machine)
+from cam_ros.core.machine.served import pair_line, pair_name
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
-from cam_ros.output.rounding import ceil_sig, floor_sig
 
 #: Machine-angle steps of `export --timing-diagram` without --points: one per degree.
 TIMING_POINTS = 360
@@ -72,35 +71,6 @@ def cam_speed(machine: Machine) -> float:
 
 # ------------------------------------------------------------------------------------ verdict
 
-def pair_name(check: PairCheck) -> str:
-    """Return a pair's type and axes: 'clearance feeder-jaw'."""
-    return f'{check.pair.type} {check.pair.axis_a}-{check.pair.axis_b}'
-
-
-def pair_line(machine: Machine, check: PairCheck) -> str:
-    """Describe one pair's verdict in one line (a smallest gap or margin rounded down)."""
-    pair, state = check.pair, 'ok' if check.ok else 'COLLIDES'
-    at = f'{cam_degrees(check.at, 2):.2f} deg'
-    if pair.type == 'clearance':
-        unit = machine.config.length_unit
-        metre = UNITS[unit]
-        return (f'{pair_name(check)}: smallest gap {floor_sig(check.value / metre)} {unit} '
-                f'({floor_sig(check.value)} m) at {at}, limit >= '
-                f'{number(pair.min_clearance / metre)} {unit}: {state}')
-    limit = f'limit >= {number(math.degrees(pair.min_margin))} deg: {state}'
-    if check.value == math.inf:
-        return f'{pair_name(check)}: an axis never enters its zone: {limit}'
-    if check.value == -math.inf:
-        return (f'{pair_name(check)}: an axis never leaves its zone, the other enters it at '
-                f'{at}: {limit}')
-    if check.value < 0.0:
-        return (f'{pair_name(check)}: both in the zone for '
-                f'{ceil_sig(-math.degrees(check.value))} deg of machine angle from {at} '
-                f'(margin {floor_sig(math.degrees(check.value))} deg): {limit}')
-    return (f'{pair_name(check)}: smallest margin {floor_sig(math.degrees(check.value))} deg '
-            f'of machine angle, from one leaving the zone at {at} to the other entering: {limit}')
-
-
 def machine_verdict(command: str, machine: Machine, checks: tuple[PairCheck, ...]) -> int:
     """Return 0 if every axis meets its limits and no pair collides, else say why and return 1.
 
@@ -112,7 +82,7 @@ def machine_verdict(command: str, machine: Machine, checks: tuple[PairCheck, ...
                 say(command, f'warning: axis {axis.name}: {warning}')
     for check in checks:
         if not check.ok:
-            say(command, f'warning: {pair_line(machine, check)}')
+            say(command, f'warning: {pair_line(check, machine.config.length_unit)}')
     ok = all(axis.design.ok for axis in machine.axes) and all(check.ok for check in checks)
     return EXIT_OK if ok else EXIT_FAILED
 
@@ -158,7 +128,8 @@ def _report_text(machine: Machine, reports: tuple, checks: tuple[PairCheck, ...]
         lines += ['', heading, '=' * len(heading),
                   format_report(axis_report, f'{config}, axis {axis.name}')]
     lines += ['', f'Interference (lengths in {machine.config.length_unit}, machine angles)']
-    lines += [f'  {pair_line(machine, check)}' for check in checks] or ['  no pairs checked']
+    unit = machine.config.length_unit
+    lines += [f'  {pair_line(check, unit)}' for check in checks] or ['  no pairs checked']
     failing = [f'axis {axis.name} violates its limits'
                for axis, axis_report in zip(machine.axes, reports) if not axis_report.ok]
     failing += [f'{pair_name(check)} COLLIDES' for check in checks if not check.ok]

@@ -9,7 +9,7 @@ from cam_ros.core.geometry.arcs import fit_arcs, lines_only
 from cam_ros.core.geometry.machining import Contour, cutter_contours, place_points
 from cam_ros.core.program_from_config import in_file_units
 from cam_ros.output.gcode import MACHINING_FORMATS, PathFile, resolution, UNITS, write_path
-from cam_ros.output.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig
 
 
 def _restated(err: InvalidParameter, option: str, text: str,

@@ -18,7 +18,7 @@ import numpy as np
 from cam_ros.core import CamDesign, InvalidParameter
 from cam_ros.core.ecam.cam_table import CamTable, INTERPOLATIONS
 from cam_ros.output.characteristics_text import characteristic_notes
-from cam_ros.output.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig
 from cam_ros.output.vendor_formats import (KOLLMORGEN_MIN_POINTS, number, real_rounding,
                                            write_kollmorgen, write_lenze, write_rockwell)
 

@@ -11,7 +11,7 @@ import math
 
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.characteristics import characteristics, QUANTITIES
-from cam_ros.output.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig
 
 DEGREE = math.pi / 180.0
 

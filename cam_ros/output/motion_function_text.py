@@ -13,7 +13,7 @@ from typing import Sequence
 
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.motion_functions import LINE, MotionFunction, REST_QUINTIC
-from cam_ros.output.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig
 from cam_ros.output.vendor_formats import number
 
 DEGREE = math.pi / 180.0

@@ -26,7 +26,7 @@ from cam_ros.core.config.parameters import UNITS
 from cam_ros.core.ecam.switches import switch_table
 from cam_ros.core.machine import Machine, PairCheck
 from cam_ros.output.plot import save
-from cam_ros.output.rounding import ceil_sig, floor_sig
+from cam_ros.core.rounding import ceil_sig, floor_sig
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -8,7 +8,7 @@ import pytest
 
 from cam_ros.core.ecam.cycle_clock import CycleClock, SETTLED
 from cam_ros.core.ecam.speed_estimate import fit_speed, SpeedEstimator
-from cam_ros.output.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig
 
 RPM = 2 * math.pi / 60
 

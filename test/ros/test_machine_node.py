@@ -95,7 +95,7 @@ def test_a_machine_node_commands_every_axis_from_one_master(start_cam_node, exec
     # file's 70.5 deg, less the knife's 5 and the jaw's 60 deg of shift): refused.
     result = set_parameters(executor, [Parameter('jaw.master.offset_deg', value=-60.0)])
     assert not result.successful
-    assert 'jaw/knife (zones)' in result.reason and 'smallest margin 15.5' in result.reason
+    assert 'zones jaw-knife: smallest margin 15.53' in result.reason
     q, stream = constant_speed(START_NS + 4 * 10 ** 9, q[-1] + speed * DT, speed, 300, DT)
     link.send(stream)
     got = commands(link, stream)

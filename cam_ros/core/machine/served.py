@@ -18,6 +18,7 @@ from dataclasses import replace
 from itertools import product
 from typing import Any, Mapping
 
+from ..cam_angles import cam_degrees
 from ..config.parameters import ParameterSpec, PARAMETERS, SPECS, UNITS
 from ..config.schema import parse_parameters
 from ..design_from_config import build_design
@@ -25,6 +26,7 @@ from ..ecam.master import ElectronicCam, MasterConfig
 from .config import is_machine, MachineConfig, parse_machine
 from .interference import check_interference, PairCheck
 from .machine import Axis, build_machine, Machine
+from ..rounding import ceil_sig, floor_sig
 from .parameters import MACHINE_SPECS, MACHINE_WIDE, PER_AXIS
 
 #: The joint (and axis name) of a single cam.
@@ -43,23 +45,38 @@ def machine_from_values(values: Mapping[str, Any]) -> Machine:
                    (Axis(SINGLE_AXIS, design, cam),))
 
 
-def said(check: PairCheck, length_unit: str) -> str:
-    """Say a pair's verdict in one line: its smallest gap or margin and where."""
-    pair = check.pair
-    where = f'at machine angle {math.degrees(check.at):.3f} deg'
+def pair_name(check: PairCheck) -> str:
+    """Return a pair's type and axes: 'clearance feeder-jaw'."""
+    return f'{check.pair.type} {check.pair.axis_a}-{check.pair.axis_b}'
+
+
+def pair_line(check: PairCheck, length_unit: str) -> str:
+    """Say one pair's verdict in one line: its smallest gap (in the machine's length_unit and
+    in m) or margin, where, and its limit; figures rounded to the safe side (rounding)."""
+    pair, state = check.pair, 'ok' if check.ok else 'COLLIDES'
+    at = f'{cam_degrees(check.at, 2):.2f} deg'
     if pair.type == 'clearance':
-        unit = UNITS[length_unit]
-        figure = (f'smallest gap {check.value / unit:.6g} {length_unit} ({check.value:.6g} m), '
-                  f'limit {pair.min_clearance / unit:.6g} {length_unit}')
-    else:
-        figure = (f'smallest margin {math.degrees(check.value):.6g} deg, limit '
-                  f'{math.degrees(pair.min_margin):.6g} deg')
-    return f'interference pair {pair.axis_a}/{pair.axis_b} ({pair.type}): {figure} {where}'
+        metre = UNITS[length_unit]
+        return (f'{pair_name(check)}: smallest gap {floor_sig(check.value / metre)} '
+                f'{length_unit} ({floor_sig(check.value)} m) at {at}, limit >= '
+                f'{pair.min_clearance / metre:.6g} {length_unit}: {state}')
+    limit = f'limit >= {math.degrees(pair.min_margin):.6g} deg: {state}'
+    if check.value == math.inf:
+        return f'{pair_name(check)}: an axis never enters its zone: {limit}'
+    if check.value == -math.inf:
+        return (f'{pair_name(check)}: an axis never leaves its zone, the other enters it at '
+                f'{at}: {limit}')
+    if check.value < 0.0:
+        return (f'{pair_name(check)}: both in the zone for '
+                f'{ceil_sig(-math.degrees(check.value))} deg of machine angle from {at} '
+                f'(margin {floor_sig(math.degrees(check.value))} deg): {limit}')
+    return (f'{pair_name(check)}: smallest margin {floor_sig(math.degrees(check.value))} deg '
+            f'of machine angle, from one leaving the zone at {at} to the other entering: {limit}')
 
 
 def collisions(machine: Machine) -> str:
     """Say every pair of the machine that collides ('' if none)."""
-    return '; '.join(said(check, machine.config.length_unit)
+    return '; '.join(pair_line(check, machine.config.length_unit)
                      for check in check_interference(machine) if not check.ok)
 
 
@@ -78,7 +95,7 @@ def update_refusal(old: Machine, new: Machine) -> str:
             if not check.ok:
                 mix = ', '.join(f'{name} {"new" if source is new else "as now"}'
                                 for name, source in zip(names, sources) if name in changed)
-                return f'{said(check, new.config.length_unit)} ({mix})'
+                return f'{pair_line(check, new.config.length_unit)} ({mix})'
     return ''
 
 

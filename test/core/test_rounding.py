@@ -5,7 +5,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from cam_ros.output.rounding import ceil_sig, floor_sig
+from cam_ros.core.rounding import ceil_sig, floor_sig
 
 
 def check(value: float, digits: int = 6) -> str:
