@@ -93,10 +93,11 @@ def markdown_table(figures: Iterable[dict[str, Any]]) -> str:
             notes.append(figure['note'])
             mark = f' [{len(notes)}]'
         met = {None: '', True: 'yes', False: '**no**'}[figure['met']]
-        unit = figure['unit']
+        unit, ratio = figure['unit'], figure['ratio']  # None: no ratio (a zero reference)
         lines.append(f"| {figure['name']}{mark} | {number(figure['value'])} {unit} | "
                      f"{figure['reference']}: {number(figure['reference_value'])} {unit} | "
-                     f"{figure['ratio']:.3g} | {figure['target'] or ''} | {met} |")
+                     f"{'nan' if ratio is None else format(ratio, '.3g')} | "
+                     f"{figure['target'] or ''} | {met} |")
     lines.append('')
     lines.extend(f'[{index}] {note}' for index, note in enumerate(notes, start=1))
     return '\n'.join(lines) + '\n'
