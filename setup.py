@@ -29,7 +29,7 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-            'cam_node = cam_ros.node.node:main',
+            'cam_node = cam_ros.node.process:main',
             'cam_ros = cam_ros.cli:main',
         ],
     },

@@ -1,4 +1,4 @@
 """cam_node: everything that runs the cam design on rclpy (node, parameters, recording, master)."""
-from .node import main
+from .process import main
 
 __all__ = ['main']

@@ -1,6 +1,6 @@
 """Run cam_node: `python -m cam_ros.node --ros-args ...`."""
 import sys
 
-from .node import main
+from .process import main
 
 sys.exit(main())

@@ -13,18 +13,14 @@ motion; active commands the axes; cleanup destroys what configure made.
 """
 from __future__ import annotations
 
-import gc
-import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any, Callable
 
 import numpy as np
-import rclpy
 from cam_ros_interfaces.srv import EvaluateCam
 from geometry_msgs.msg import Vector3Stamped
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
@@ -32,7 +28,6 @@ from rclpy.task import Future
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
 
-from cam_ros.exit_codes import EXIT_INVALID
 from cam_ros.core import CamDesign, CamError, check_angles, InvalidParameter
 from cam_ros.core.config.parameters import ParameterSpec
 from cam_ros.core.errors import one_line
@@ -44,16 +39,13 @@ from cam_ros.node.clock_state import ClockState
 from cam_ros.node.design_topics import as_float64, DesignTopics
 from cam_ros.node.lifecycle import Configured, guard_change_state
 from cam_ros.node.master_follower import MasterFollower
-from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.own_thread import OwnThread
 from cam_ros.node.qos_events import publisher
 from cam_ros.node.parameters import (AUTOSTART, autostart_descriptor, declared_value, descriptor,
-                                     parameter_sources, ParameterSources, parse_command_line,
-                                     plain, RECORDING_SWITCH, reload_parameters,
-                                     ros_node_parameters, start_rclpy, USAGE)
+                                     parameter_sources, ParameterSources, plain,
+                                     RECORDING_SWITCH, reload_parameters, ros_node_parameters)
 from cam_ros.node.recording_switch import NodeRecording, Served
 from cam_ros.paths import default_config_path
-from cam_ros.rclpy_gaps import RCLError
 
 STATE_QOS = QoSProfile(depth=10)
 SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
@@ -407,56 +399,3 @@ class CamNode(LifecycleNode):
     def _publish_design(self) -> None:
         for topics, axis in zip(self._topics, self.machine.axes):
             topics.publish(axis.design)
-
-
-def _invalid(message: str) -> int:
-    """Print one line 'cam_node: message' on stderr and return the exit code of bad input."""
-    print(f'cam_node: {one_line(message)}', file=sys.stderr)
-    return EXIT_INVALID
-
-
-def main(args: Sequence[str] | None = None) -> int:
-    """Run cam_node until Ctrl-C, SIGTERM or its shutdown transition; exit 2 with one line on
-    invalid input (with autostart: a design configure refuses)."""
-    argv = list(sys.argv if args is None else args)
-    try:
-        command = parse_command_line(argv, default_config_path())
-    except CamError as err:
-        return _invalid(str(err))
-    if {'-h', '--help'} & set(command.user_args):
-        print(USAGE, end='')
-        return 0
-    if command.user_args:
-        return _invalid(f'unrecognized arguments: {" ".join(command.user_args)} '
-                        '(see cam_node --help)')
-    try:
-        serve_over_udp()
-    except CamError as err:
-        return _invalid(str(err))
-    problem = start_rclpy(command.ros_args)
-    if problem:  # a bad remapping or logging argument
-        return _invalid(f'invalid ROS arguments: {problem}')
-    executor = SingleThreadedExecutor()  # made first, so a signal never lands inside its set-up
-    node = None
-    code = 0
-    try:
-        node = CamNode(command.sources)
-        # The node's own objects, built now, are never collected: moved out of the collector's
-        # generations, they cost no collection pauses on the master thread (p99, machines).
-        gc.collect()
-        gc.freeze()
-        executor.add_node(node)
-        executor.spin_until_future_complete(node.finished)  # the shutdown transition ends it
-    except CamError as err:
-        code = _invalid(str(err))
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    except RCLError:
-        if rclpy.ok():
-            raise  # a real failure; otherwise SIGTERM's shutdown raced the executor's wait
-    finally:
-        executor.shutdown()
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return code
