@@ -8,7 +8,7 @@ from cli_support import DEFAULT_CONFIG, run_cli
 from conftest import STOP_TIMEOUT_S
 from ros.lifecycle_support import managed_node
 
-from cam_ros.cli import TRANSITIONS
+from cam_ros.cli.arguments import TRANSITIONS
 from cam_ros.commands.lifecycle import ENDS_IN
 
 TYPO = ('      offset: 0.5', '      ofset: 0.5')
