@@ -15,17 +15,14 @@ from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import Point
 from rclpy.node import Node
 from rclpy.publisher import Publisher
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
 from cam_ros.core import CamDesign
 from cam_ros.node.joints import joint_coordinates
-from cam_ros.node.qos_events import publisher
+from cam_ros.node.qos_events import LATCHED, publisher
 
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
 CAM_FRAME = 'cam'
 #: Rows of the latched ~/dynamics array (empty for a design without dynamics).
 DYNAMICS_ROWS = ('cam_angle_rad', 'contact_force_N', 'camshaft_torque_Nm', 'contact_stress_Pa')

@@ -19,7 +19,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.publisher import Publisher
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray, UInt32
 from std_srvs.srv import SetBool
@@ -43,12 +43,9 @@ from cam_ros.node.ecam_log import EcamLog
 from cam_ros.node.slave_feedback import SLAVE_QOS, SlaveFeedback, watches
 from cam_ros.node.joints import CAM_JOINT
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
-from cam_ros.node.qos_events import publisher
+from cam_ros.node.qos_events import LATCHED, publisher
 
 COMMAND_QOS = QoSProfile(depth=10)
-#: ~/switches and ~/state: a late subscriber gets the present state at once.
-LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
-                     reliability=ReliabilityPolicy.RELIABLE)
 DIAGNOSTICS_PERIOD_S = 1.0
 
 

@@ -1,14 +1,19 @@
 """Warn, naming the topic, when a peer's QoS can never match one of the node's publishers.
 
 rclpy's own default warning names the topic as written ('~/commands'); this one names the
-resolved topic and the policy.
+resolved topic and the policy. LATCHED is the QoS of every latched topic of the node.
 """
 from typing import Any, Callable
 
 from rclpy.event_handler import PublisherEventCallbacks
 from rclpy.node import Node
 from rclpy.publisher import Publisher
-from rclpy.qos import qos_policy_name_from_kind, QoSProfile
+from rclpy.qos import (DurabilityPolicy, qos_policy_name_from_kind, QoSProfile,
+                       ReliabilityPolicy)
+
+#: Latched topics (profiles, ~/switches, ~/state, ...): a late subscriber gets the last message.
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     reliability=ReliabilityPolicy.RELIABLE)
 
 
 def _warning(node: Node, topic: str, peer: str) -> Callable[[Any], None]:
