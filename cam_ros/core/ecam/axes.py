@@ -51,10 +51,6 @@ class SlaveAxes:
     def __len__(self) -> int:
         return len(self.names)
 
-    def follower(self, name: str) -> Follower:
-        """Return the follower of an axis by name."""
-        return self.followers[self.names.index(name)]
-
     @property
     def status(self) -> str:
         """Say what the axes do: one status when they agree, else each axis's."""

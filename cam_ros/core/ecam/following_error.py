@@ -53,11 +53,6 @@ class CommandHistory:
             positions, velocities = self._commands[-1]
             self._commands[-1] = (positions, (0.0,) * len(velocities))
 
-    def clear(self) -> None:
-        """Forget every command (a new design's axes, or a cleanup)."""
-        self._stamps.clear()
-        self._commands.clear()
-
     def reference(self, axis: int, stamp_ns: int) -> Optional[Reference]:
         """Return axis's command at stamp_ns, or None before the first kept command."""
         stamps = self._stamps
