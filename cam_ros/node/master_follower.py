@@ -26,7 +26,7 @@ from std_srvs.srv import SetBool
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import SlaveAxes
+from cam_ros.core.ecam.axes import Commands, SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
@@ -219,9 +219,9 @@ class MasterFollower:
                 f'{tracker.plausible_speed():.6g} rad/s allows ({tracker.jumps} so far): the '
                 f'slaves hold and engage again from where they are')
         handovers = [follower.handover for follower in self._axes.followers]
-        points = self._axes.command(state)
-        if points is not None:
-            self._publish(message, state, points)
+        commands = self._axes.command(state)
+        if commands is not None:
+            self._publish(message, state, commands)
         self._say_events()
         for name, handover, follower, unit in zip(self._axes.names, handovers,
                                                   self._axes.followers, self._units):
@@ -250,14 +250,13 @@ class MasterFollower:
             else:
                 logger.info(event)
 
-    def _publish(self, message: JointState, state: MasterState, points: list[Any]) -> None:
+    def _publish(self, message: JointState, state: MasterState, commands: Commands) -> None:
         """Publish the commands first (the latency that matters), then the rest."""
-        self._commands_pub.publish(Float64MultiArray(data=self._axes.values(points)))
-        self._history.add(state.stamp_ns, [float(p.position) for p in points],
-                          [float(p.velocity) for p in points])
+        self._commands_pub.publish(Float64MultiArray(data=self._axes.values(commands)))
+        self._history.add(state.stamp_ns, commands.position, commands.velocity)
         joints = JointState(name=[CAM_JOINT, *self._axes.names],
-                            position=[state.position, *(float(p.position) for p in points)],
-                            velocity=[state.omega, *(float(p.velocity) for p in points)])
+                            position=[state.position, *commands.position],
+                            velocity=[state.omega, *commands.velocity])
         joints.header = message.header
         self._joint_pub.publish(joints)
         if self._config.trajectory_horizon > 0.0:

@@ -73,10 +73,10 @@ def run(axes: SlaveAxes, alone: list[Follower], track: np.ndarray, omega: np.nda
         engaged = all(follower.phase == ENGAGED for follower in alone)
         state = MasterState(k * 10 ** 6, q, w, 0.3, w * DT, q)
         before = sum(counter.calls for counter in counters)
-        points = axes.command(state)
+        commands = axes.command(state)
         said['tabled'].append(sum(counter.calls for counter in counters) == before)
         exact = [follower.command(state) for follower in alone]
-        said['fast'].append([(p.position, p.velocity) for p in points])
+        said['fast'].append(list(zip(commands.position, commands.velocity)))
         said['exact'].append([(float(p.position), float(p.velocity)) for p in exact])
         phases = [follower.phase for follower in axes.followers]
         said['steady'].append(engaged and set(phases) == {ENGAGED})  # nothing else was due

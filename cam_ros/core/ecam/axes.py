@@ -16,7 +16,7 @@ path, which decides the stop.
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence
+from typing import NamedTuple, Optional, Sequence
 
 import numpy as np
 
@@ -32,6 +32,13 @@ COMPILED_FROM = 2
 #: The velocity error taken for a tabled command near backward under slave.direction: this
 #: many times the table's refined largest.
 DIRECTION_MARGIN = 2.0
+
+
+class Commands(NamedTuple):
+    """Every axis's position and velocity command at one master sample, in the axes' order."""
+
+    position: list[float]
+    velocity: list[float]
 
 
 class SlaveAxes:
@@ -70,38 +77,40 @@ class SlaveAxes:
         """Return each axis's last position commanded (None: nothing yet)."""
         return [follower.held for follower in self.followers]
 
-    def command(self, state: MasterState) -> Optional[list[Setpoints]]:
-        """Return every axis's setpoints for a master sample, or None unless all have one."""
+    def command(self, state: MasterState) -> Optional[Commands]:
+        """Return every axis's command for a master sample, or None unless all have one."""
         if len(self.names) >= COMPILED_FROM:
             steady = self._steady(state)
             if steady is not None:
                 return steady
         points = [follower.command(state) for follower in self.followers]
-        return None if any(point is None for point in points) else points  # type: ignore
+        if any(point is None for point in points):
+            return None
+        return Commands([float(point.position) for point in points],  # type: ignore[union-attr]
+                        [float(point.velocity) for point in points])  # type: ignore[union-attr]
 
-    def _steady(self, state: MasterState) -> Optional[list[Setpoints]]:
-        """Return every axis's setpoints from the tables if all are steady, else None (then
+    def _steady(self, state: MasterState) -> Optional[Commands]:
+        """Return every axis's command from the tables if all are steady, else None (then
         nothing changed)."""
         cams = [follower.steady(state) for follower in self.followers]
-        if any(cam is None for cam in cams):
+        if None in cams:
             return None
-        known = self._steady_cams
-        if known is None or any(cam is not old for cam, old in zip(cams, known)):
+        if cams != self._steady_cams:  # ElectronicCam compares by identity
             self._steady_cams, self._compiled = cams, self._compile(cams)  # type: ignore
         compiled = self._compiled
         if compiled is None:
             return None
-        angle, values = compiled.rows(state.track, state.omega, state.alpha)
+        values = compiled.commands(state.track, state.omega)
         directions = [follower.limits.direction for follower in self.followers]
         if any(directions):
             way, velocity = np.array(directions), values[1]
             doubt = DIRECTION_MARGIN * abs(state.omega) * compiled.velocity_error
             if ((way != 0) & (way * velocity <= doubt) & (velocity != 0.0)).any():
                 return None
-        rows = values.tolist()
-        for follower, position, velocity in zip(self.followers, rows[0], rows[1]):
+        positions, velocities = values.tolist()
+        for follower, position, velocity in zip(self.followers, positions, velocities):
             follower.took(state, position, velocity)
-        return list(map(Setpoints._make, zip(angle.tolist(), *rows)))
+        return Commands(positions, velocities)
 
     def _compile(self, cams: Sequence[ElectronicCam]) -> Optional[CompiledCams]:
         """Return the cams' stacked tables (None if a table misses ACCURACY); keep the tables
@@ -113,10 +122,10 @@ class SlaveAxes:
             return None
         return CompiledCams(cams, tables)
 
-    def values(self, points: Sequence[Setpoints]) -> list[float]:
+    def values(self, commands: Commands) -> list[float]:
         """Return the command of each axis for its interface (position, or velocity)."""
-        return [float(point.position if interface == 'position' else point.velocity)
-                for point, interface in zip(points, self.interfaces)]
+        return [position if interface == 'position' else velocity for position, velocity,
+                interface in zip(commands.position, commands.velocity, self.interfaces)]
 
     def hold_values(self) -> Optional[list[float]]:
         """Return the hold command of each axis (its position, or velocity 0), None if any has

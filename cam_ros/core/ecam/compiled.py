@@ -1,5 +1,5 @@
 """
-Compiled cams: the steady setpoints of many axes in one NumPy pass.
+Compiled cams: the steady commands of many axes in one NumPy pass.
 
 Evaluating N axes' programs angle by angle costs N times the single-axis path in Python. A
 ProgramTable holds one motion program s(theta) over one cam cycle as a piecewise quintic Hermite
@@ -13,10 +13,10 @@ times SAFETY), are at most ACCURACY of the program's stroke (position) and of it
 rounding (ROUNDING); the table keeps them (ProgramTable.errors).
 
 CompiledCams stacks the tables of N axes (each table's knots shifted by its place in the stack):
-one searchsorted and one polynomial evaluation give every axis's s, s', s'', s''' at its cam
-angle, and the chain rule with each axis's mapping (as ElectronicCam.derivatives: master offset
-and scaling, slave scaling and offset, an advancing program's advance per whole turn) its
-setpoints.
+one searchsorted and one polynomial evaluation give every axis's s and s' at its cam angle, and
+the chain rule with each axis's mapping (as ElectronicCam.derivatives: master offset and scaling,
+slave scaling and offset, an advancing program's advance per whole turn) its position and
+velocity command: what the node sends and publishes.
 """
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ from ..cam_angles import TWO_PI
 from ..extremes import refine_extrema
 from ..motion.program import MotionProgram
 from ..motion.segment import segment_values
-from .master import ElectronicCam, Setpoints
+from .master import ElectronicCam
 
 #: Largest error of a table: of the stroke (position) and of the largest |s'| (velocity).
 ACCURACY = 1e-9
@@ -121,7 +121,7 @@ def compile_program(program: MotionProgram) -> ProgramTable:
 
 
 class CompiledCams:
-    """The cams of N axes, their tables stacked: every axis's setpoints at one master sample."""
+    """The cams of N axes, their tables stacked: every axis's command at one master sample."""
 
     def __init__(self, cams: Sequence[ElectronicCam], tables: Sequence[ProgramTable]):
         """Stack the tables (tables[i]: cams[i].program's; one copy of each table)."""
@@ -130,44 +130,44 @@ class CompiledCams:
         place = np.array([unique.index(table) for table in tables])
         self._keys = np.concatenate([table.knots + STACK_SPACING * number
                                      for number, table in enumerate(unique)])
-        self._knots, self._rows = _padded(unique)
+        knots, rows = _padded(unique)
+        self._knots, self._rows = knots, np.ascontiguousarray(rows[:, :2])  # s and s' only
         self._shift = None if len(unique) == 1 else STACK_SPACING * place
         mappings = [cam.mapping for cam in cams]
         scaling = np.array([mapping.master_scaling for mapping in mappings])
         starts = np.array([cam.program.start for cam in cams])
         # (q - q0) / m - start = q / m - (q0 / m + start)
-        self._per_turn = 1.0 / scaling
         self._origin = np.array([mapping.master_offset for mapping in mappings]) / scaling \
             + starts
-        self._start = starts if starts.any() else None
-        advance = np.array([cam.program.advance for cam in cams])
-        self._advance = advance if advance.any() else None
-        self._slave_offset = np.array([mapping.slave_offset for mapping in mappings])
+        self._per_turn = None if (scaling == 1.0).all() else 1.0 / scaling
         k = np.array([mapping.slave_scaling for mapping in mappings])
-        self._per_master = k / scaling ** np.arange(4)[:, np.newaxis]  # rows: k / m**order
+        advance = k * np.array([cam.program.advance for cam in cams])  # of y per whole turn
+        self._advance = advance if advance.any() else None
+        self._per_master = np.array([k, k / scaling])  # dy/ds and dy'/ds' per rad of master
+        self._offset = np.array([[mapping.slave_offset for mapping in mappings], [0.0] * len(k)])
         #: Each axis's largest velocity error per rad/s of master (the table's, chained).
         self.velocity_error = np.abs(self._per_master[1]) * np.array(
             [table.errors.velocity for table in tables])
 
-    def setpoints(self, master: float, omega: float, alpha: float) -> Setpoints:
-        """Return every axis's setpoints (arrays, one entry per axis) at a master sample."""
-        angle, (position, velocity, acceleration, jerk) = self.rows(master, omega, alpha)
-        return Setpoints(angle, position, velocity, acceleration, jerk)
+    def commands(self, master: float, omega: float) -> FloatArray:
+        """
+        Return rows position and velocity, one entry per axis, at a master sample.
 
-    def rows(self, master: float, omega: float,
-             alpha: float) -> tuple[FloatArray, FloatArray]:
-        """Return every axis's cam angle, and rows position, velocity, acceleration, jerk."""
-        cycles, local = np.divmod(master * self._per_turn - self._origin, TWO_PI)
-        values = _interpolate(self._keys, self._knots, self._rows, local, self._shift)
-        if self._advance is not None:
+        What the node commands and publishes (ElectronicCam.setpoints' first two, with master
+        position and speed); the chain rule of acceleration and jerk is left out.
+        """
+        turned = (master if self._per_turn is None else master * self._per_turn) - self._origin
+        if self._advance is None:
+            cycles, local = None, np.remainder(turned, TWO_PI)
+        else:
+            cycles, local = np.divmod(turned, TWO_PI)
+        values = _interpolate(self._keys, self._knots, self._rows, local, self._shift,
+                              self._per_master)  # y - y0 in a cycle, and y' per rad of master
+        if cycles is not None:
             values[0] += self._advance * cycles
-        values *= self._per_master  # y - y0 and its derivatives per rad of master
-        w = omega
-        chain = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, w, 0.0, 0.0], [0.0, alpha, w * w, 0.0],
-                          [0.0, 0.0, 3.0 * w * alpha, w * w * w]])  # master.chain_rule's
-        rows: FloatArray = chain @ values
-        rows[0] += self._slave_offset
-        return local if self._start is None else np.mod(local + self._start, TWO_PI), rows
+        values[1] *= omega
+        values += self._offset
+        return values
 
 
 def _padded(tables: Sequence[ProgramTable]) -> tuple[FloatArray, FloatArray]:
@@ -179,9 +179,11 @@ def _padded(tables: Sequence[ProgramTable]) -> tuple[FloatArray, FloatArray]:
 
 
 def _interpolate(keys: FloatArray, knots: FloatArray, rows: FloatArray, local: FloatArray,
-                 shift: Optional[FloatArray] = None) -> FloatArray:
+                 shift: Optional[FloatArray] = None,
+                 scale: Optional[FloatArray] = None) -> FloatArray:
     """
-    Return rows s, s', s'', s''' at local angles in [0, 2 pi] (1-D) of stacked tables.
+    Return the rows' s, s', ... (as many as rows holds) at local angles in [0, 2 pi] (1-D) of
+    stacked tables, each times scale (same shape) if given.
 
     keys: the knots, each table's shifted by its place; shift: the shift of each angle's table
     (None: a single table, unshifted); knots and rows as _padded gives them.
@@ -191,9 +193,10 @@ def _interpolate(keys: FloatArray, knots: FloatArray, rows: FloatArray, local: F
     else:
         index = np.searchsorted(keys, local + shift, side='right')
         index -= local < knots[index]  # the shift rounded an angle just below a knot onto it
-    t = local - knots[index]
-    values: FloatArray = np.einsum('nkj,nj->kn', rows[index],
-                                   np.power(t[:, np.newaxis], _POWERS))
+    t = local - knots.take(index)
+    coefficients, powers = rows.take(index, axis=0), np.power(t[:, np.newaxis], _POWERS)
+    values: FloatArray = (np.einsum('nkj,nj->kn', coefficients, powers) if scale is None else
+                          np.einsum('nkj,nj,kn->kn', coefficients, powers, scale))
     return values
 
 
