@@ -183,3 +183,32 @@ def test_a_tabled_velocity_near_backward_leaves_the_stop_to_the_exact_path():
     first = int(np.argmax(track >= math.pi))  # the first sample on the fall
     assert [phases[0] for phases in said['phases']].index(HOLDING) == first
     assert sum(said['tabled']) > 200
+
+
+def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them():
+    # Only axes.command for 400 samples: the followers are not looked at in between, yet a
+    # hold and a stop then start from the last command sent, as the exact followers' do.
+    fast, alone = followers(), followers()
+    axes = SlaveAxes(['feeder', 'knife', 'jaw', 'knife2'], fast, ['position'] * 4)
+    k, last = 0, None
+    while k < 400 or last is None:
+        q = 3.0 + OMEGA * DT * k
+        state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
+        last = axes.command(state)
+        for follower in alone:
+            follower.command(state)
+        k += 1
+    assert all(follower.phase == ENGAGED for follower in alone)
+    assert axes.held == last.position  # the tabled sample, noted when read
+    stroke = strokes(fast)
+    assert (np.abs(np.array(axes.held) - [f.held for f in alone]) <= ACCURACY * stroke).all()
+    said_fast, said_alone = axes.engage(False), [f.engage(False) for f in alone]
+    assert said_fast[0] and all(ok for ok, _ in said_alone)
+    assert [f.phase for f in axes.followers] == [f.phase for f in alone]
+    q = 3.0 + OMEGA * DT * k
+    state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
+    stopping, exact = axes.command(state), [f.command(state) for f in alone]
+    assert np.abs(np.array(stopping.position) - [float(p.position) for p in exact]).max() <= \
+        ACCURACY * stroke.max()
+    assert np.abs(np.array(stopping.velocity) - [float(p.velocity) for p in exact]).max() <= \
+        ACCURACY * OMEGA * stroke.max() * 10

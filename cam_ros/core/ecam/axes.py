@@ -10,9 +10,11 @@ From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.ste
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
 (compiled.py: refined to the exact program's rounding, never worse than ACCURACY of each axis's
 stroke and peak velocity); any other sample, and every sample of fewer axes, takes each
-follower's exact path. An axis with slave.direction whose
-tabled velocity is within the table's error of moving backward sends the sample to the exact
-path, which decides the stop.
+follower's exact path. An axis with slave.direction whose tabled velocity is within the table's
+error of moving backward sends the sample to the exact path, which decides the stop. A tabled
+sample's commands are noted in the followers (Follower.took) when they are next looked at
+(SlaveAxes.followers, and every method here), so the node sends them first; nothing reads a
+follower but through them.
 """
 from __future__ import annotations
 
@@ -46,7 +48,10 @@ class SlaveAxes:
 
     def __init__(self, names: Sequence[str], followers: Sequence[Follower],
                  interfaces: Sequence[str]):
-        self.names, self.followers = tuple(names), list(followers)
+        self.names, self._followers = tuple(names), list(followers)
+        # A tabled sample's commands, noted in the followers when they are next looked at:
+        # after the node has sent them (see followers).
+        self._unnoted: Optional[tuple[MasterState, Commands]] = None
         self.interfaces = list(interfaces)
         self._tables: dict[MotionProgram, ProgramTable] = {}
         self._steady_cams: Optional[list[Optional[ElectronicCam]]] = None
@@ -57,6 +62,15 @@ class SlaveAxes:
 
     def __len__(self) -> int:
         return len(self.names)
+
+    @property
+    def followers(self) -> list[Follower]:
+        """Return the followers, each holding the last command (a tabled one noted first)."""
+        if self._unnoted is not None:
+            (state, commands), self._unnoted = self._unnoted, None
+            for follower, position, velocity in zip(self._followers, *commands):
+                follower.took(state, position, velocity)
+        return self._followers
 
     @property
     def status(self) -> str:
@@ -92,7 +106,8 @@ class SlaveAxes:
     def _steady(self, state: MasterState) -> Optional[Commands]:
         """Return every axis's command from the tables if all are steady, else None (then
         nothing changed)."""
-        cams = [follower.steady(state) for follower in self.followers]
+        followers = self._followers  # steady() reads nothing a tabled sample changes
+        cams = [follower.steady(state) for follower in followers]
         if None in cams:
             return None
         if cams != self._steady_cams:  # ElectronicCam compares by identity
@@ -101,16 +116,15 @@ class SlaveAxes:
         if compiled is None:
             return None
         values = compiled.commands(state.track, state.omega)
-        directions = [follower.limits.direction for follower in self.followers]
+        directions = [follower.limits.direction for follower in followers]
         if any(directions):
             way, velocity = np.array(directions), values[1]
             doubt = DIRECTION_MARGIN * abs(state.omega) * compiled.velocity_error
             if ((way != 0) & (way * velocity <= doubt) & (velocity != 0.0)).any():
                 return None
-        positions, velocities = values.tolist()
-        for follower, position, velocity in zip(self.followers, positions, velocities):
-            follower.took(state, position, velocity)
-        return Commands(positions, velocities)
+        commands = Commands(*values.tolist())
+        self._unnoted = state, commands
+        return commands
 
     def _compile(self, cams: Sequence[ElectronicCam]) -> Optional[CompiledCams]:
         """Return the cams' stacked tables (None if a table misses ACCURACY); keep the tables
