@@ -8,7 +8,9 @@ The machines are config/default.yaml's cam N times (axes a0 .. a{N-1}, axis i at
 at a time in alternating blocks (ecam.run), its commands matched to master messages by the stamps
 of its joint states (ecam.Side). CPU per master message is each process's CPU time over the
 measured messages. In process, SlaveAxes.command of the largest machine at a steady sample is
-timed against its axes' exact paths one by one (what a machine costs without compiled tables).
+timed against its axes' exact paths one by one (what a machine costs without compiled tables);
+the followers' noting of a tabled sample's commands, which the node does after sending them, is
+not in it.
 """
 from __future__ import annotations
 
