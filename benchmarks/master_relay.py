@@ -18,7 +18,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 from benchmarks.spin import spin_until_shutdown
-from cam_ros.node.master_follower import COMMAND_QOS, MASTER_QOS
+from cam_ros.node.command_topics import COMMAND_QOS
+from cam_ros.node.master_intake import MASTER_QOS
 from cam_ros.node.middleware import serve_over_udp
 
 

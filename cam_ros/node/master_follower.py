@@ -6,8 +6,9 @@ machine's, or the single cam's joint follower: one path for both). For every acc
 message (sensor_msgs/JointState) it publishes ~/commands for a forward_command_controller
 (position or velocity of every axis joint, in the axes' order), ~/joint_states with the master's
 stamp (the master joint and every axis joint) and, with a trajectory horizon, ~/joint_trajectory
-for a joint_trajectory_controller; /diagnostics about once a second. One master subscription,
-one speed estimate for all axes; every number comes from cam_ros.core.ecam.
+for a joint_trajectory_controller (command_topics.py sends those); /diagnostics about once a
+second. One master subscription, one speed estimate for all axes; every number comes from
+cam_ros.core.ecam.
 """
 from __future__ import annotations
 
@@ -16,17 +17,14 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.publisher import Publisher
-from rclpy.qos import QoSProfile
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray, UInt32
+from std_msgs.msg import UInt32
 from std_srvs.srv import SetBool
-from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import Commands, SlaveAxes
+from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
@@ -41,11 +39,10 @@ from cam_ros.node.ecam_diagnostics import (design_statuses, engagement_status, j
                                            master_status, recording_status)
 from cam_ros.node.ecam_log import EcamLog
 from cam_ros.node.slave_feedback import SLAVE_QOS, SlaveFeedback, watches
-from cam_ros.node.joints import CAM_JOINT
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
+from cam_ros.node.command_topics import COMMAND_QOS, CommandTopics
 from cam_ros.node.qos_events import LATCHED, publisher
 
-COMMAND_QOS = QoSProfile(depth=10)
 DIAGNOSTICS_PERIOD_S = 1.0
 
 
@@ -99,8 +96,7 @@ class MasterFollower:
         self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
         self._active = active  # a managed node's inactive state sends nothing
-        self._commands_pub = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
-        self._trajectory_pub = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
+        self._topics = CommandTopics(node, self._axes, joint_pub, self._config)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
@@ -121,13 +117,14 @@ class MasterFollower:
                                zip(self._axes.names, self._axes.interfaces))
         node.get_logger().info(
             f'electronic cam: following {self._master_sub.topic_name} (joint '
-            f'{self._config.joint}), commands on {self._commands_pub.topic_name} ({interfaces})')
+            f'{self._config.joint}), commands on {self._topics.commands.topic_name} '
+            f'({interfaces})')
 
     def topics(self) -> list[TopicSpec]:
         """Return the master input and the command topics, for the recorder."""
         return [TopicSpec(self._master_sub.topic_name, JointState, MASTER_QOS)] + [
             TopicSpec(pub.topic_name, pub.msg_type, pub.qos_profile)
-            for pub in (self._commands_pub, self._trajectory_pub, self._diagnostics_pub,
+            for pub in (self._topics.commands, self._topics.trajectory, self._diagnostics_pub,
                         self._switches_pub, self._state_pub, self._feedback.publisher)
         ] + self._log.topics()
 
@@ -141,6 +138,7 @@ class MasterFollower:
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
             self._design_statuses, self._config = statuses, config
+            self._topics.config = config
             tracker = self._tracker
             tracker.timeout_ns = int(config.timeout * 1e9)
             tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
@@ -221,7 +219,8 @@ class MasterFollower:
         handovers = [follower.handover for follower in self._axes.followers]
         commands = self._axes.command(state)
         if commands is not None:
-            self._publish(message, state, commands)
+            self._topics.sample(message.header, state, commands)
+            self._history.add(state.stamp_ns, commands.position, commands.velocity)
         self._say_events()
         for name, handover, follower, unit in zip(self._axes.names, handovers,
                                                   self._axes.followers, self._units):
@@ -249,24 +248,6 @@ class MasterFollower:
                 logger.warning(event)
             else:
                 logger.info(event)
-
-    def _publish(self, message: JointState, state: MasterState, commands: Commands) -> None:
-        """Publish the commands first (the latency that matters), then the rest."""
-        self._commands_pub.publish(Float64MultiArray(data=self._axes.values(commands)))
-        self._history.add(state.stamp_ns, commands.position, commands.velocity)
-        joints = JointState(name=[CAM_JOINT, *self._axes.names],
-                            position=[state.position, *commands.position],
-                            velocity=[state.omega, *commands.velocity])
-        joints.header = message.header
-        self._joint_pub.publish(joints)
-        if self._config.trajectory_horizon > 0.0:
-            count = self._config.trajectory_points
-            times = self._config.trajectory_horizon / count * np.arange(1, count + 1)
-            ahead = self._axes.ahead(state, times)
-            self._trajectory_pub.publish(_trajectory(
-                self._axes.names, times, *(np.array([getattr(point, field) for point in ahead])
-                                           for field in ('position', 'velocity',
-                                                         'acceleration'))))
 
     def _said_applied(self, name: str, old: ElectronicCam, new: ElectronicCam,
                       state: MasterState, unit: AxisUnit) -> None:
@@ -325,21 +306,10 @@ class MasterFollower:
         values = self._axes.hold_values()
         if values is None:
             return
-        held = [float(position) for position in self._axes.held]  # type: ignore[arg-type]
-        self._commands_pub.publish(Float64MultiArray(data=values))
-        now = self._node.get_clock().now()
+        last, held = self._tracker.last, self._axes.held
+        self._topics.hold(values, [float(position) for position in held],  # type: ignore[arg-type]
+                          last.position if last else 0.0, self._node.get_clock().now().to_msg())
         self._history.stop()  # the hold keeps the last command's positions
-        last = self._tracker.last
-        joints = JointState(name=[CAM_JOINT, *self._axes.names],
-                            velocity=[0.0] * (len(held) + 1),
-                            position=[last.position if last else 0.0, *held])
-        joints.header.stamp = now.to_msg()
-        self._joint_pub.publish(joints)
-        if self._config.trajectory_horizon > 0.0:
-            rest = np.zeros((len(held), 1))
-            self._trajectory_pub.publish(_trajectory(
-                self._axes.names, np.array([self._config.trajectory_horizon]),
-                np.array(held)[:, np.newaxis], rest, rest))
 
     def _publish_state(self) -> None:
         """Publish ~/state when the slaves' status, the switch word or the design changed."""
@@ -395,15 +365,3 @@ def _speed_limit(axes: Sequence[tuple[str, CamDesign]]) -> tuple[float, str]:
 def _nominal_speed(axes: Sequence[tuple[str, CamDesign]]) -> float:
     """Return the master speed at cam_speed (the same for every axis of a machine)."""
     return MasterConfig.from_config(axes[0][1].config).nominal_speed
-
-
-def _trajectory(names: Sequence[str], times: np.ndarray, positions: np.ndarray,
-                velocities: np.ndarray, accelerations: np.ndarray) -> JointTrajectory:
-    """Build the axes' trajectory starting now (stamp 0): rows per axis, points at times (s)."""
-    trajectory = JointTrajectory(joint_names=list(names))
-    trajectory.points = [
-        JointTrajectoryPoint(positions=p, velocities=v, accelerations=a,
-                             time_from_start=Duration(nanoseconds=round(t * 1e9)).to_msg())
-        for t, p, v, a in zip(times.tolist(), positions.T.tolist(), velocities.T.tolist(),
-                              accelerations.T.tolist())]
-    return trajectory
