@@ -111,9 +111,9 @@ class CamNode(LifecycleNode):
         self._failure = None
         try:
             values = self._sources.read()
-            problem = collisions(machine_from_values(values))
+            problem = collisions(machine_from_values(values))  # also checks every value
             if problem:
-                raise InvalidParameter('interference', None, f'collides: {problem}')
+                raise CamError(f'interference: {problem}')
             self._configured = Configured(self)
             self._build(values)
         except Exception as err:  # a bad design, or a bug: unconfigured all the same

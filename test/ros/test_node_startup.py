@@ -259,3 +259,15 @@ def test_bad_ros_arguments_are_one_line_too(ros_domain, tmp_path, arguments, exp
     assert result.returncode == 2 and result.stdout == '', result
     assert result.stderr.count('\n') == 1 and 'Traceback' not in result.stderr, result.stderr
     assert result.stderr.startswith(f'cam_node: {expected}'), result.stderr
+
+
+def test_a_machine_whose_pairs_collide_is_refused_by_name(ros_domain, tmp_path):
+    # config/machine.yaml with the jaw shifted 60 deg earlier: its zone's 70.5 deg of margin to
+    # the knife's, less 60, is 10.5 deg, under the pair's 20 (test_machine_node refuses a like
+    # shift as a live update).
+    result = run([*NODE, '--ros-args', '--params-file', str(CONFIG_DIR / 'machine.yaml'), '-p',
+                  'jaw.master.offset_deg:=-60.0'], tmp_path)
+    assert_one_line(result, result.stderr.removeprefix('cam_node: ').rstrip('\n'))
+    assert result.stderr.startswith('cam_node: interference: zones jaw-knife: smallest margin '
+                                    '10.53'), result.stderr
+    assert result.stderr.rstrip().endswith('limit >= 20 deg: COLLIDES'), result.stderr
