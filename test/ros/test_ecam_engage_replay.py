@@ -158,6 +158,8 @@ def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
 
     # Replayed into a fresh node: the recorded commands, by master stamp.
     stand_in.node.destroy_service(stand_in.service)  # the fresh node serves /cam/engage
+    for subscription in list(stand_in.node.subscriptions):  # so --wait waits for the fresh node
+        stand_in.node.destroy_subscription(subscription)
     second, _ = start_cam_node(DEFAULT, *ECAM)
     fresh = MasterLink(executor)
     calls = Inbox(fresh.node, EngageRequest, '/cam/engage_requests', REQUESTS)
