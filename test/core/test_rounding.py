@@ -8,16 +8,22 @@ import pytest
 from cam_ros.core.rounding import ceil_sig, floor_sig
 
 
+def last_digit(value: Fraction, digits: int) -> Fraction:
+    """Return one unit of the last of digits significant digits of value, exactly."""
+    magnitude = abs(value)
+    exponent = 0  # floor(log10 |value|), exactly
+    while Fraction(10) ** exponent > magnitude:
+        exponent -= 1
+    while Fraction(10) ** (exponent + 1) <= magnitude:
+        exponent += 1
+    return Fraction(10) ** (exponent - digits + 1)
+
+
 def check(value: float, digits: int = 6) -> str:
     text = ceil_sig(value, digits)
     assert 'e' not in text.lower()
     printed, exact = Fraction(text), Fraction(value)
-    exponent = 0  # floor(log10 value), exactly
-    while Fraction(10) ** exponent > exact:
-        exponent -= 1
-    while Fraction(10) ** (exponent + 1) <= exact:
-        exponent += 1
-    unit = Fraction(10) ** (exponent - digits + 1)  # one unit of the last digit
+    unit = last_digit(exact, digits)
     assert float(text) >= value and printed < exact + unit, (value, text)
     significant = text.replace('.', '').lstrip('0')
     assert len(significant.rstrip('0')) <= digits or printed == int(printed)
@@ -56,13 +62,7 @@ def check_floor(value: float, digits: int = 6) -> str:
     text = floor_sig(value, digits)
     assert 'e' not in text.lower()
     printed, exact = Fraction(text), Fraction(value)
-    magnitude = abs(exact)
-    exponent = 0  # floor(log10 |value|), exactly
-    while Fraction(10) ** exponent > magnitude:
-        exponent -= 1
-    while Fraction(10) ** (exponent + 1) <= magnitude:
-        exponent += 1
-    unit = Fraction(10) ** (exponent - digits + 1)
+    unit = last_digit(exact, digits)
     assert float(text) <= value and printed > exact - unit, (value, text)
     return text
 
