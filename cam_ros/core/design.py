@@ -278,14 +278,19 @@ class CamDesign:
                 + dynamics_warnings(self.dynamics_check, self.config))
 
     @cached_property
+    def electronic_cam(self) -> ElectronicCam:
+        """Return the program driven by the master through the config's master.* and slave.*
+        offsets and scalings (MC_CamIn): what an e-cam of this design commands."""
+        return ElectronicCam(self.program, MasterConfig.from_config(self.config).mapping)
+
+    @cached_property
     def slave_excess(self) -> str:
         """Say which slave.* limits the e-cam exceeds at cam_speed ('' if none or unset)."""
         limits = SlaveLimits.from_config(self.config)
         if not limits.limited:
             return ''
-        master = MasterConfig.from_config(self.config)
-        peaks = CamPeaks.of(ElectronicCam(self.program, master.mapping)).at(
-            master.nominal_speed, 0.0, limits.direction)
+        peaks = CamPeaks.of(self.electronic_cam).at(
+            MasterConfig.from_config(self.config).nominal_speed, 0.0, limits.direction)
         excess = peaks.excess(limits, AxisUnit.of(self.config))
         return f'at cam_speed the slave axis exceeds its limits: {excess}' if excess else ''
 

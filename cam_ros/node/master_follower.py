@@ -24,7 +24,7 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import SetBool
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import SlaveAxes
+from cam_ros.core.ecam.axes import by_axis, SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
@@ -69,7 +69,7 @@ class MasterFollower:
                  switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
                  recorder: Callable[[], Recorder | None], active: bool = True):
         """Follow the master; inactive (a managed node's state) until activate() unless active."""
-        self._node, self._joint_pub, self._recorder = node, joint_pub, recorder
+        self._node, self._recorder = node, recorder
         self._machine = machine
         first = axes[0][1].config
         values = first.parameters
@@ -77,11 +77,11 @@ class MasterFollower:
         self._units = [AxisUnit.of(design.config) for _, design in axes]
         self._axes = SlaveAxes(
             [name for name, _ in axes],
-            [Follower(ElectronicCam(design.program, MasterConfig.from_config(
-                design.config).mapping), EngageConfig.from_parameters(design.config.parameters),
-                values['master.engage_on_start'], SlaveLimits.from_config(design.config), unit)
-             for (_, design), unit in zip(axes, self._units)],
-            [design.config.parameters['command.interface'] for _, design in axes])
+            [Follower(design.electronic_cam,
+                      EngageConfig.from_parameters(design.config.parameters),
+                      values['master.engage_on_start'], SlaveLimits.from_config(design.config),
+                      unit) for (_, design), unit in zip(axes, self._units)],
+            _interfaces(axes))
         self._design_statuses = design_statuses(node, axes)
         self._tracks = SwitchTracks(switch_table(switches))
         self._speed_limit = _speed_limit(axes)
@@ -148,20 +148,18 @@ class MasterFollower:
             self._feedback.watches = watches(axes)
             said = []
             for (name, design), follower, unit in zip(axes, self._axes.followers, self._units):
-                mapping = MasterConfig.from_config(design.config).mapping
-                if not self._machine and follower.cam.mapping != mapping:
+                cam = design.electronic_cam
+                if not self._machine and follower.cam.mapping != cam.mapping:
                     self._tracks = SwitchTracks(table)  # the cam angle of the switches moved
                 follower.unit = unit
                 # Said under the lock: the master thread cannot apply it (and say so) before.
                 said.append(follower.change(
-                    ElectronicCam(design.program, mapping),
-                    EngageConfig.from_parameters(design.config.parameters),
+                    cam, EngageConfig.from_parameters(design.config.parameters),
                     SlaveLimits.from_config(design.config)))
-            self._axes.interfaces = [design.config.parameters['command.interface']
-                                     for _, design in axes]
+            self._axes.interfaces = _interfaces(axes)
             if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
-            self._last_handover = _by_axis(self._axes.names, said)
+            self._last_handover = by_axis(self._axes.names, said)
             last = tracker.last
             self._changes += 1
             self._changed_after = None if last is None else last.stamp_ns
@@ -344,16 +342,14 @@ class MasterFollower:
                    if follower.handover is not None]
         return master_status(self._node, self._tracker, self._speed_limit,
                              topic=self._master_sub.topic_name,
-                             design_change=_by_axis([name for name, _ in pending],
-                                                    [said for _, said in pending]) or 'none',
+                             design_change=by_axis([name for name, _ in pending],
+                                                   [said for _, said in pending]) or 'none',
                              last_design_change=self._last_handover)
 
 
-def _by_axis(names: Sequence[str], said: Sequence[str]) -> str:
-    """Join what each axis said (just the text for a single axis)."""
-    if len(said) <= 1:
-        return ''.join(said)
-    return '; '.join(f'{name}: {text}' for name, text in zip(names, said))
+def _interfaces(axes: Sequence[tuple[str, CamDesign]]) -> list[str]:
+    """Return each axis's command.interface ('position' or 'velocity')."""
+    return [design.config.parameters['command.interface'] for _, design in axes]
 
 
 def _speed_limit(axes: Sequence[tuple[str, CamDesign]]) -> tuple[float, str]:

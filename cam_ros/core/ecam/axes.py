@@ -36,6 +36,13 @@ COMPILED_FROM = 2
 DIRECTION_MARGIN = 2.0
 
 
+def by_axis(names: Sequence[str], said: Sequence[str]) -> str:
+    """Join what each axis said, each after its name (just the text when one axis said it)."""
+    if len(said) <= 1:
+        return ''.join(said)
+    return '; '.join(f'{name}: {text}' for name, text in zip(names, said))
+
+
 class Commands(NamedTuple):
     """Every axis's position and velocity command at one master sample, in the axes' order."""
 
@@ -157,9 +164,7 @@ class SlaveAxes:
     def engage(self, on: bool) -> tuple[bool, str]:
         """Engage or disengage every axis; return success (all) and what each said."""
         answers = [follower.engage(on) for follower in self.followers]
-        message = answers[0][1] if len(answers) == 1 else '; '.join(
-            f'{name}: {said}' for name, (_, said) in zip(self.names, answers))
-        return all(ok for ok, _ in answers), message
+        return all(ok for ok, _ in answers), by_axis(self.names, [said for _, said in answers])
 
     def fault(self, reason: str) -> None:
         """Every axis holds at its last command until ~/engage clears the fault."""

@@ -18,7 +18,7 @@ import numpy.typing as npt
 from ..config.params_file import read_parameters_file
 from ..design import CamDesign
 from ..design_from_config import build_design
-from ..ecam.master import ElectronicCam, MasterConfig, Setpoints
+from ..ecam.master import ElectronicCam, Setpoints
 from ..errors import InvalidParameter
 from .config import axis_index, axis_error, MachineConfig, parse_machine
 
@@ -66,8 +66,7 @@ def build_machine(config: MachineConfig) -> Machine:
             design = build_design(axis_config)
         except InvalidParameter as err:
             raise axis_error(name, err) from err
-        mapping = MasterConfig.from_config(axis_config).mapping
-        axes.append(Axis(name, design, ElectronicCam(design.program, mapping)))
+        axes.append(Axis(name, design, design.electronic_cam))
     return Machine(config, tuple(axes))
 
 

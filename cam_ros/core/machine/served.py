@@ -22,7 +22,6 @@ from ..cam_angles import cam_degrees
 from ..config.parameters import ParameterSpec, PARAMETERS, SPECS, UNITS
 from ..config.schema import parse_parameters
 from ..design_from_config import build_design
-from ..ecam.master import ElectronicCam, MasterConfig
 from .config import is_machine, MachineConfig, parse_machine
 from .interference import check_interference, PairCheck
 from .machine import Axis, build_machine, Machine
@@ -39,10 +38,9 @@ def machine_from_values(values: Mapping[str, Any]) -> Machine:
         return build_machine(parse_machine(values))
     config = parse_parameters(values)
     design = build_design(config)
-    cam = ElectronicCam(design.program, MasterConfig.from_config(config).mapping)
     return Machine(MachineConfig((SINGLE_AXIS,), (config,), config.parameters,
                                  config.length_unit, ()),
-                   (Axis(SINGLE_AXIS, design, cam),))
+                   (Axis(SINGLE_AXIS, design, design.electronic_cam),))
 
 
 def pair_name(check: PairCheck) -> str:
