@@ -223,6 +223,9 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='length_unit|deg per s', minimum=0.0, maximum=1e9),
     _p('slave.max_acceleration', 'double', 0.0, 'Largest acceleration the axis may be commanded '
        '(0: not limited)', unit='length_unit|deg per s^2', minimum=0.0, maximum=1e12),
+    _p('slave.max_jerk', 'double', 0.0, 'Largest jerk of a move off the cam (engagement, '
+       'return after a fault; 0: not limited)', unit='length_unit|deg per s^3', minimum=0.0,
+       maximum=1e15),
     _p('slave.following_error_limit', 'double', 0.0, 'Largest |command - reported position| '
        'on slave.state_topic before the machine holds (0: not checked)',
        unit='length_unit|deg', minimum=0.0, maximum=1e9),

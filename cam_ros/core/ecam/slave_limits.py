@@ -48,12 +48,13 @@ DIRECTIONS = {'any': 0, 'positive': 1, 'negative': -1}
 
 @dataclass(frozen=True)
 class SlaveLimits:
-    """slave.max_velocity, slave.max_acceleration (SI, 0: none), slave.direction, the turn."""
+    """slave.max_velocity, .max_acceleration, .max_jerk (SI, 0: none), .direction, the turn."""
 
     max_velocity: float = 0.0  # m/s or rad/s
     max_acceleration: float = 0.0  # m/s^2 or rad/s^2
     direction: int = 0  # +1 positive only, -1 negative only, 0 any
     turn: float = 0.0  # a rotary slave's turn (2 pi rad); 0 for any other
+    max_jerk: float = 0.0  # m/s^3 or rad/s^3, of moves off the cam
 
     @classmethod
     def from_config(cls, config: CamConfig) -> 'SlaveLimits':
@@ -62,7 +63,8 @@ class SlaveLimits:
         unit = math.radians(1.0) if config.oscillating else UNITS[config.length_unit]
         return cls(values['slave.max_velocity'] * unit, values['slave.max_acceleration'] * unit,
                    DIRECTIONS[values['slave.direction']],
-                   TWO_PI if config.length_unit == 'deg' else 0.0)
+                   TWO_PI if config.length_unit == 'deg' else 0.0,
+                   values['slave.max_jerk'] * unit)
 
     @property
     def limited(self) -> bool:
