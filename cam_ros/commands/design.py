@@ -49,12 +49,19 @@ def report(config: str, json_output: bool = False, axis: str | None = None) -> i
         return machine.report(config, json_output)
     design = load_design(config, axis)
     progress('report', 'sizing the base radius')
-    result = design_report(design)
+    text, ok = report_output(design, config, json_output, axis)
     end_progress()
+    print(text)
+    return EXIT_OK if ok else EXIT_FAILED
+
+
+def report_output(design: CamDesign, config: str, json_output: bool = False,
+                  axis: str | None = None) -> tuple[str, bool]:
+    """Return what `cam_ros report` prints for a design (of config, or its axis), and its ok."""
+    result = design_report(design)
     label = config if axis is None else f'{config}, axis {axis}'
-    print(dump_json({**({} if axis is None else {'name': axis}), **report_data(result, config)})
-          if json_output else format_report(result, label))
-    return EXIT_OK if result.ok else EXIT_FAILED
+    return (dump_json({**({} if axis is None else {'name': axis}), **report_data(result, config)})
+            if json_output else format_report(result, label)), result.ok
 
 
 # ------------------------------------------------------------------------------------ sample

@@ -93,17 +93,22 @@ def report(config: str, json_output: bool = False) -> int:
     """Print each axis's report and each interference pair; 1 if any fails."""
     machine = load_machine_file(config, 'axes')
     progress('report', 'sizing each axis')
-    result = machine_report(machine)
+    text, ok = report_output(machine, config, json_output)
     end_progress()
+    print(text)
+    return EXIT_OK if ok else EXIT_FAILED
+
+
+def report_output(machine: Machine, config: str, json_output: bool = False) -> tuple[str, bool]:
+    """Return what `cam_ros report` prints for a machine (of config), and its ok."""
+    result = machine_report(machine)
     if json_output:
-        print(dump_json({
+        return dump_json({
             'axes': [{'name': axis.name, **report_data(axis_report, config)}
                      for axis, axis_report in zip(machine.axes, result.axes)],
             'interference': [_pair_data(check) for check in result.interference],
-            'ok': result.ok}))
-    else:
-        print(_report_text(machine, result.axes, result.interference, config))
-    return EXIT_OK if result.ok else EXIT_FAILED
+            'ok': result.ok}), result.ok
+    return _report_text(machine, result.axes, result.interference, config), result.ok
 
 
 def _pair_data(check: PairCheck) -> dict[str, Any]:
