@@ -35,23 +35,55 @@ def test_master_positions_map_modulo_one_cam_revolution(q):
     assert 0.0 <= float(MAPPING.cam_angle(q)) < 2 * math.pi
 
 
-@pytest.mark.parametrize('q0', [2.8, 4.0, 8.5, -3.0])  # rise, dwell end, return, negative
-def test_velocity_acceleration_jerk_are_the_chain_rule_of_the_master_motion(q0):
+def follower_law(theta: float) -> tuple[float, float, float]:
+    """Return s', s'', s''' (per rad of cam) of default.yaml's moving segments in closed form."""
+    stroke = 0.02  # m: a cycloidal rise over 90-180 deg, a simple harmonic return over 240-360
+    if math.radians(90.0) < theta < math.radians(180.0):
+        beta = math.radians(90.0)
+        phase = 2 * math.pi * (theta - math.radians(90.0)) / beta
+        return (stroke / beta * (1 - math.cos(phase)),
+                stroke / beta ** 2 * 2 * math.pi * math.sin(phase),
+                stroke / beta ** 3 * 4 * math.pi ** 2 * math.cos(phase))
+    assert math.radians(240.0) < theta < 2 * math.pi, 'a case outside the moving segments'
+    beta = math.radians(120.0)
+    phase = math.pi * (theta - math.radians(240.0)) / beta
+    half = -stroke / 2  # the return falls by the stroke: s = stroke + half (1 - cos(phase))
+    return (half * math.pi / beta * math.sin(phase),
+            half * (math.pi / beta) ** 2 * math.cos(phase),
+            -half * (math.pi / beta) ** 3 * math.sin(phase))
+
+
+#: Cases inside both moving segments (cam angle in deg, whole master turns, some negative),
+#: where s', s'' and s''' are all far from zero, so that every term of the chain rule counts.
+MOVING = [(110.0, 0), (153.0, 4), (276.0, 0), (342.0, -3), (130.0, -1)]
+
+
+@pytest.mark.parametrize('theta_deg, turns', MOVING)
+def test_velocity_acceleration_jerk_are_the_chain_rule_of_the_master_motion(theta_deg, turns):
     omega, alpha = 7.0, -3.0  # constant master acceleration: q = q0 + omega t + alpha t^2 / 2
-
-    def position(t):
-        return CAM.setpoints(q0 + omega * t + 0.5 * alpha * t ** 2).position
-
-    t = H_S * np.arange(-2, 3)
-    y = position(t)
+    m, k = MAPPING.master_scaling, MAPPING.slave_scaling
+    q0 = MAPPING.master_offset + m * (math.radians(theta_deg) + 2 * math.pi * turns)
     point = CAM.setpoints(q0, omega, alpha)
-    velocity = (y[3] - y[1]) / (2 * H_S)
-    acceleration = (y[3] - 2 * y[2] + y[1]) / H_S ** 2
-    jerk = (y[4] - 2 * y[3] + 2 * y[1] - y[0]) / (2 * H_S ** 3)
-    scale = max(1e-3, abs(float(point.velocity)))
-    assert float(point.velocity) == pytest.approx(velocity, rel=DIFFERENCE_RTOL, abs=1e-9 * scale)
-    assert float(point.acceleration) == pytest.approx(acceleration, rel=1e-4, abs=1e-5)
-    assert float(point.jerk) == pytest.approx(jerk, rel=1e-2, abs=1e-2)
+    # The chain rule in closed form, term by term: no term of it vanishes here.
+    ds, d2s, d3s = follower_law(math.radians(theta_deg))
+    velocity = k * ds * omega / m
+    speed_acceleration, master_acceleration = k * d2s * omega ** 2 / m ** 2, k * ds * alpha / m
+    speed_jerk = k * d3s * omega ** 3 / m ** 3
+    acceleration_jerk = 3 * k * d2s * omega * alpha / m ** 2
+    for term in (velocity, speed_acceleration, master_acceleration, speed_jerk, acceleration_jerk):
+        assert abs(term) > 1e-3, (theta_deg, term)
+    assert float(point.velocity) == pytest.approx(velocity, rel=1e-9)
+    assert float(point.acceleration) == pytest.approx(speed_acceleration + master_acceleration,
+                                                      rel=1e-9)
+    assert float(point.jerk) == pytest.approx(speed_jerk + acceleration_jerk, rel=1e-9)
+    # And they are the time derivatives of the positions along the master's motion.
+    t = H_S * np.arange(-2, 3)
+    y = CAM.setpoints(q0 + omega * t + 0.5 * alpha * t ** 2).position
+    assert float(point.velocity) == pytest.approx((y[3] - y[1]) / (2 * H_S), rel=DIFFERENCE_RTOL)
+    assert float(point.acceleration) == pytest.approx((y[3] - 2 * y[2] + y[1]) / H_S ** 2,
+                                                      rel=1e-4)
+    assert float(point.jerk) == pytest.approx((y[4] - 2 * y[3] + 2 * y[1] - y[0]) / (2 * H_S ** 3),
+                                              rel=1e-2)
 
 
 def test_setpoints_broadcast_over_arrays_like_single_samples():
