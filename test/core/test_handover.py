@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
+from scipy.optimize import brentq
 
 from cam_ros.core.ecam.handover import agreement, Handover, POSITION_TOLERANCE, SLOPE_TOLERANCE
 from cam_ros.core.motion.laws import Cycloidal, Dwell, SimpleHarmonic
@@ -61,17 +61,52 @@ def test_a_common_dwell_is_found_and_its_ends_are_exact():
     np.testing.assert_array_equal(agrees(old, new, theta), inside)
 
 
+def law(name: str, start_deg: float, end_deg: float, s0: float, s1: float):
+    """Return s(theta) and ds/dtheta of one segment in closed form (sin and cos, for the test)."""
+    start, beta, h = deg(start_deg), deg(end_deg - start_deg), s1 - s0
+    if name == 'simple_harmonic':
+        return (lambda t: s0 + h / 2 * (1 - math.cos(math.pi * (t - start) / beta)),
+                lambda t: h / 2 * math.pi / beta * math.sin(math.pi * (t - start) / beta))
+    assert name == 'cycloidal'
+    return (lambda t: s0 + h * ((t - start) / beta
+                                - math.sin(2 * math.pi * (t - start) / beta) / (2 * math.pi)),
+            lambda t: h / beta * 2 * math.sin(math.pi * (t - start) / beta) ** 2)
+
+
+def end_of_agreement(old, new, inside: float, outside: float) -> float:
+    """Solve for the angle between inside and outside where the agreement ends (brentq)."""
+    def excess(theta: float) -> float:
+        (old_s, old_ds), (new_s, new_ds) = ((s(theta), ds(theta)) for s, ds in (old, new))
+        return max(abs(new_s - old_s) - POSITION_TOLERANCE, abs(new_ds - old_ds) - SLOPE_TOLERANCE)
+    return brentq(excess, inside, outside, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+
+
 def test_two_dwells_at_equal_height_give_two_intervals():
     old, new = cam(0.02), ElectronicCam(MotionProgram((
         Segment(Dwell(), deg(0), deg(90), 0.0, 0.0),
         Segment(SimpleHarmonic(), deg(90), deg(150), 0.0, 0.02),
         Segment(Dwell(), deg(150), deg(260), 0.02, 0.02),
         Segment(Cycloidal(), deg(260), deg(360), 0.02, 0.0))), MAPPING)
-    intervals = np.degrees(agreement(old, new))
+    intervals = agreement(old, new)
     assert intervals.shape == (2, 2)
-    assert intervals[0][0] == pytest.approx(180.0, abs=0.5)
-    assert intervals[0][1] == pytest.approx(240.0, abs=0.5)
-    assert intervals[1][1] - 360.0 == pytest.approx(90.0, abs=0.5)
+    # Each end from the closed forms of the two segments that meet there: the dwells agree
+    # exactly, so an end lies a little past the joint where one cam leaves the common height.
+    high_dwell = (lambda t: 0.02, lambda t: 0.0)
+    expected = [
+        [end_of_agreement(law('cycloidal', 90, 180, 0.0, 0.02), high_dwell, deg(180), deg(179)),
+         end_of_agreement(law('simple_harmonic', 240, 360, 0.02, 0.0), high_dwell, deg(240),
+                          deg(241))],
+        [end_of_agreement(law('simple_harmonic', 240, 360, 0.02, 0.0),
+                          law('cycloidal', 260, 360, 0.02, 0.0), deg(360), deg(359)),
+         2 * math.pi + end_of_agreement(law('cycloidal', 90, 180, 0.0, 0.02),
+                                        law('simple_harmonic', 90, 150, 0.0, 0.02), deg(90),
+                                        deg(91))]]
+    # Bisection to round-off: within 1e-12 rad (9e-16 measured), far inside END_ATOL.
+    np.testing.assert_allclose(intervals, expected, rtol=0.0, atol=1e-12)
+    # Every end lies past its joint by more than END_ATOL (1e-8 rad at the least): checked
+    # this closely, no end is its joint.
+    joints = np.radians([[180.0, 240.0], [360.0, 450.0]])
+    assert (np.abs(intervals - joints) > 10 * END_ATOL).all()
 
 
 def test_the_cycle_start_of_two_rises_is_found_and_crossing_it_makes_the_change_due():
