@@ -5,7 +5,7 @@ import re
 from pathlib import Path
 
 import pytest
-from docs_support import example_id, examples, LANGUAGES, PAGES, REPO
+from docs_support import document, example_id, examples, LANGUAGES, PAGES, REPO
 
 EXAMPLES = examples()
 DIRECTIVES = ('{toctree}', '{eval-rst}')
@@ -27,3 +27,30 @@ def test_every_code_block_names_a_checked_language(page: Path) -> None:
     found = sum(1 for example in EXAMPLES if Path(example.path) == page)
     assert found == sum(fence in LANGUAGES for fence in openings), (
         f'{page.name}: Sybil found {found} examples, the page has {len(openings)} blocks')
+
+
+FAILING_DESIGN = {
+    'sh': ('cam_ros report too_steep.yaml', 'exit 1'),
+    'console': ('$ cam_ros report too_steep.yaml\n...\nVerdict: VIOLATES its limits', None),
+    'console-hidden': ('$ cam_ros report too_steep.yaml\nCam design report: too_steep.yaml',
+                       'exit 1'),
+}
+
+
+@pytest.mark.parametrize('kind', FAILING_DESIGN)
+def test_an_example_of_a_failing_design_passes_only_where_the_page_shows_it(kind, tmp_path):
+    """A design that breaks its limits (exit 1) passes in a console block showing its verdict."""
+    default = (REPO / 'config' / 'default.yaml').read_text()
+    steep = default.replace('pressure_angle_deg: 30.0', 'pressure_angle_deg: 20.0')
+    assert steep != default  # its pressure angle reaches 27.34 deg
+    (tmp_path / 'too_steep.yaml').write_text(steep)
+    block, error = FAILING_DESIGN[kind]
+    page = tmp_path / 'page.md'
+    page.write_text(f'```{kind.partition("-")[0]}\n{block}\n```\n')
+    [example] = list(document(page))
+    example.namespace['tmp_path'] = tmp_path
+    if error is None:
+        example.evaluate()
+    else:
+        with pytest.raises(AssertionError, match=error):
+            example.evaluate()
