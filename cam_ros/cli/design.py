@@ -137,3 +137,21 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='a machine file: each axis\'s commanded position over one machine '
                              'cycle, --format csv: machine angle (deg) and a column per axis in '
                              'its file unit, --points N steps (default 360: N + 1 rows)')
+
+    parser = _command(sub, 'studio', 'cam_ros.commands.studio:studio',
+                      'Edit a design in the browser',
+                      'Serve a web app for one design file, a cam or a machine: edit it with '
+                      'every check of the core as you type, see its S-V-A-J, pressure angle, '
+                      'curvature, cam drawing or timing diagram, save it (comments kept) and '
+                      'download what export writes. Binds 127.0.0.1 by default; another '
+                      '--host needs the token in the printed URL.', exit_codes(None))
+    parser.add_argument('config', metavar='FILE', nargs='?', default=None,
+                        help='the design file (default: the shipped default design, '
+                             'read-only)')
+    parser.add_argument('--port', type=int, default=8770, metavar='N',
+                        help='TCP port (default 8770; 0: a free one)')
+    parser.add_argument('--host', default='127.0.0.1', metavar='H',
+                        help='address to serve on (default 127.0.0.1, this computer only; '
+                             'another needs the token printed with the URL)')
+    parser.add_argument('--open', dest='open_browser', action='store_true',
+                        help='open the page in the default browser')
