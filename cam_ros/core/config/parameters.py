@@ -35,6 +35,9 @@ MAX_SWITCH_TRACKS = 32
 MAX_ARM_ANGLE_DEG = 180.0
 #: Largest slave position (deg) of a rotary slave: a thousand turns.
 MAX_ROTARY_DEG = 360e3
+#: Smallest positive size (m) of a length that must not be negative: a micrometre, below any
+#: meaning for a cam (0 still means none where a parameter allows it).
+LEAST_LENGTH_M = 1e-6
 #: Prefixes of the parameters that describe a cam, its follower train or their limits: a
 #: motion-only design (follower.type: none) leaves them at their defaults.
 CAM_ONLY = ('follower.', 'limits.pressure_angle', 'limits.min_radius', 'limits.contact',
@@ -55,6 +58,9 @@ class ParameterSpec:
     choices: tuple[str, ...] = ()
     read_only: bool = False
     automatic: bool = False  # entries may be .nan, meaning "automatic"
+    #: Smallest meaningful positive value (m for a length): one in (0, least) is refused, as
+    #: below any physical meaning and a source of overflow.
+    least: float | None = None
 
     @property
     def rule(self) -> str:
@@ -66,6 +72,9 @@ class ParameterSpec:
             parts.append(f'in [{self.minimum:g}, {self.maximum:g}]')
         elif self.minimum is not None:
             parts.append(f'>= {self.minimum:g}')
+        if self.least is not None:
+            metres = ' m' if self.unit == 'length_unit' else ''
+            parts.append(f'0 or at least {self.least:g}{metres}')
         return ', '.join(parts)
 
 
@@ -83,15 +92,15 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('follower.type', 'string', REQUIRED, 'Follower kind (none: motion only, no cam)',
        choices=FOLLOWER_TYPES),
     _p('follower.base_radius', 'double', REQUIRED, 'Base circle radius of the cam surface (not '
-       'with follower.type none)', unit='length_unit', minimum=0.0),
+       'with follower.type none)', unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('follower.roller_radius', 'double', 0.0, 'Roller radius (roller followers)',
-       unit='length_unit', minimum=0.0),
+       unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('follower.offset', 'double', 0.0, 'Offset e of a translating follower\'s line of travel '
        'from the cam centre (+x side positive)', unit='length_unit'),
     _p('follower.pivot_distance', 'double', 0.0, 'Distance from cam centre to the arm pivot '
-       '(oscillating followers)', unit='length_unit', minimum=0.0),
+       '(oscillating followers)', unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('follower.arm_length', 'double', 0.0, 'Pivot to roller centre (oscillating roller)',
-       unit='length_unit', minimum=0.0),
+       unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('follower.face_offset', 'double', 0.0, 'Distance of the flat face from the arm pivot '
        '(oscillating flat-faced)', unit='length_unit'),
     _p('follower.arm_turns_with_cam', 'bool', False, 'Oscillating arm turns in the cam\'s sense '
@@ -100,7 +109,7 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        '(force), a groove both flanks of which guide it, or a second, conjugate cam',
        choices=CLOSURES),
     _p('follower.groove_clearance', 'double', 0.0, 'Groove width minus the roller diameter '
-       '(closure: groove)', unit='length_unit', minimum=0.0),
+       '(closure: groove)', unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('follower.conjugate_angle_deg', 'double', 0.0, 'Angle between the two arms of an '
        'oscillating conjugate follower (closure: conjugate)', unit='deg', minimum=0.0,
        maximum=180.0),
@@ -136,30 +145,31 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='deg', minimum=1.0, maximum=89.0),
     _p('limits.pressure_angle_return_deg', 'double', 0.0, 'Largest allowed |pressure angle| on '
        'the return (ds/dtheta <= 0; 0: pressure_angle_deg)', unit='deg', minimum=0.0,
-       maximum=89.0),
+       maximum=89.0, least=1.0),
     _p('limits.min_radius_of_curvature', 'double', 0.0, 'Smallest allowed radius of curvature '
-       'of the cam surface where convex', unit='length_unit', minimum=0.0),
+       'of the cam surface where convex', unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('limits.contact_stress', 'double', 0.0, 'Allowable Hertz peak contact pressure p0 '
        '(0: not checked)', unit='Pa', minimum=0.0, maximum=1e12),
     _p('limits.allow_velocity_jumps', 'bool', False, 'Let a design whose ds/dtheta jumps at a '
        'joint (an infinite acceleration) pass the verdict'),
     _p('dynamics.mass', 'double', 0.0, 'Moving mass of a translating follower train (0: no '
-       'dynamics)', unit='kg', minimum=0.0, maximum=1e6),
+       'dynamics)', unit='kg', minimum=0.0, maximum=1e6, least=1e-6),
     _p('dynamics.arm_inertia', 'double', 0.0, 'Inertia of an oscillating arm about its pivot '
-       '(0: no dynamics)', unit='kg m^2', minimum=0.0, maximum=1e6),
+       '(0: no dynamics)', unit='kg m^2', minimum=0.0, maximum=1e6, least=1e-9),
     _p('dynamics.spring_rate', 'double', 0.0, 'Return spring rate (N m/rad for oscillating '
        'followers)', unit='N/m|N m/rad', minimum=0.0, maximum=1e12),
     _p('dynamics.spring_preload', 'double', 0.0, 'Spring force at s = 0 (N m for oscillating '
        'followers)', unit='N|N m', minimum=0.0, maximum=1e9),
     _p('dynamics.damping_ratio', 'double', 0.0, 'Damping as a fraction of critical, '
-       '2 sqrt(k m)', minimum=0.0, maximum=100.0),
+       '2 sqrt(k m)', minimum=0.0, maximum=100.0, least=1e-6),
     _p('dynamics.external_force', 'double', 0.0, 'Constant load on the follower, positive '
        'toward the cam (N m for oscillating followers)', unit='N|N m', minimum=-1e9,
        maximum=1e9),
     _p('dynamics.jump_safety_factor', 'double', 1.5, 'Factor on the separating force for the '
        'needed spring preload', minimum=1.0, maximum=100.0),
     _p('dynamics.train_natural_frequency', 'double', 0.0, 'Lowest natural frequency of the '
-       'follower train, cam side held (0: rigid train)', unit='Hz', minimum=0.0, maximum=1e6),
+       'follower train, cam side held (0: rigid train)', unit='Hz', minimum=0.0, maximum=1e6,
+       least=1e-3),
     _p('dynamics.train_stiffness', 'double', 0.0, 'Stiffness of the follower train, instead of '
        'its natural frequency (with dynamics.mass or arm_inertia)', unit='N/m|N m/rad',
        minimum=0.0, maximum=1e15),
@@ -169,13 +179,13 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        'the designed motion at cam_speed (polydyne; needs laws continuous to the 4th '
        'derivative)'),
     _p('contact.face_width', 'double', 0.0, 'Contact length along the camshaft (the narrower '
-       'face); needed with dynamics', unit='length_unit', minimum=0.0),
+       'face); needed with dynamics', unit='length_unit', minimum=0.0, least=LEAST_LENGTH_M),
     _p('contact.cam_modulus', 'double', STEEL_MODULUS, 'Young\'s modulus of the cam', unit='Pa',
-       minimum=0.0, maximum=1e13),
+       minimum=0.0, maximum=1e13, least=1e5),
     _p('contact.cam_poisson', 'double', STEEL_POISSON, 'Poisson\'s ratio of the cam, < 0.5',
        minimum=0.0, maximum=0.5),
     _p('contact.follower_modulus', 'double', STEEL_MODULUS, 'Young\'s modulus of the roller '
-       'or face', unit='Pa', minimum=0.0, maximum=1e13),
+       'or face', unit='Pa', minimum=0.0, maximum=1e13, least=1e5),
     _p('contact.follower_poisson', 'double', STEEL_POISSON, 'Poisson\'s ratio of the roller or '
        'face, < 0.5', minimum=0.0, maximum=0.5),
     _p('contact.friction', 'double', 0.0, 'Sliding friction coefficient of a flat face',
@@ -303,6 +313,13 @@ def _check_range(spec: ParameterSpec, value: Any) -> None:
             raise InvalidParameter(spec.name, written, f'must be >= {spec.minimum:g}')
         if spec.maximum is not None and isinstance(item, (int, float)) and item > spec.maximum:
             raise InvalidParameter(spec.name, written, f'must be <= {spec.maximum:g}')
+        if spec.least is not None and spec.unit != 'length_unit' and 0.0 < item < spec.least:
+            raise InvalidParameter(spec.name, written, least_rule(f'{spec.least:g}'))
+
+
+def least_rule(bound: str) -> str:
+    """Say the rule of a value below its smallest meaningful positive value."""
+    return f'must be 0 or at least {bound} (smaller is below any physical meaning)'
 
 
 def check_parameter(name: str, value: Any, specs: Mapping[str, ParameterSpec] = SPECS) -> Any:

@@ -27,6 +27,7 @@ from yaml.composer import Composer
 from yaml.constructor import SafeConstructor
 from yaml.events import AliasEvent
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+from yaml.reader import ReaderError
 from yaml.resolver import Resolver
 
 from ..errors import InvalidParameter
@@ -145,9 +146,16 @@ class _Unread:
 
 def parse_yaml(text: str, parameter: str = 'config', value: object = '<text>') -> Any:
     """Parse one YAML document under the rules above; errors name parameter and value."""
-    loader = _Loader(text, parameter, value)
+    loader = None
     try:
+        loader = _Loader(text, parameter, value)  # the reader refuses control characters here
         return loader.get_single_data()
+    except ReaderError as err:
+        line = text.count('\n', 0, err.position) + 1
+        column = err.position - (text.rfind('\n', 0, err.position) + 1) + 1
+        raise InvalidParameter(parameter, value, f'is not text (a binary file?): the control '
+                               f'character U+{err.character:04X} at line {line}, column '
+                               f'{column} may not be in YAML') from err
     except yaml.YAMLError as err:
         mark = getattr(err, 'problem_mark', None)
         where = f' at line {mark.line + 1}, column {mark.column + 1}' if mark else ''
@@ -155,7 +163,8 @@ def parse_yaml(text: str, parameter: str = 'config', value: object = '<text>') -
                                           getattr(err, 'problem', None)))) or 'syntax error'
         raise InvalidParameter(parameter, value, f'is not valid YAML{where}: {problem}') from err
     finally:
-        loader.dispose()
+        if loader is not None:
+            loader.dispose()
 
 
 def read_yaml(path: str | Path) -> Any:

@@ -30,9 +30,11 @@ from typing import Any, Mapping
 from ..dynamics.follower import DynamicsConfig, parse_dynamics
 from ..dynamics.train import parse_train, TrainConfig
 from ..errors import InvalidParameter
+from ..motion.laws import make_law
 # The parameters one by one live in parameters, the file side of the format (safe YAML reading,
-# node sections) in params_file.
-from .parameters import (CAM_ONLY, check_parameter, check_type, LENGTH_UNITS,
+# node sections) in params_file; the rules across the dynamics.* parameters in dynamics_rules.
+from .dynamics_rules import check_dynamics
+from .parameters import (CAM_ONLY, check_parameter, check_type, least_rule, LENGTH_UNITS,
                          MAX_ARM_ANGLE_DEG, MAX_LENGTH_M, MAX_ROTARY_DEG, MAX_SWITCH_TRACKS,
                          PARAMETERS, ParameterSpec, REQUIRED, ROS_NODE_PARAMETERS, TASK_ARRAYS,
                          UNITS)
@@ -151,6 +153,8 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
     metre = UNITS[values['length_unit']]
     oscillating = values['follower.type'].startswith('oscillating')
     _check_magnitudes(values, metre, oscillating)
+    inertia_name = check_dynamics(values, oscillating)
+    _check_scca(values)
     position_scale = math.radians(1.0) if oscillating else metre
 
     def scaled(name: str, scale: float) -> tuple[float, ...]:
@@ -208,9 +212,7 @@ def parse_parameters(flat: Mapping[str, Any]) -> CamConfig:
         recording_directory=values['recording.directory'],
         recording_compression=values['recording.compression'],
         dynamics=parse_dynamics(values, metre, values['follower.type']),
-        train=parse_train(values, *((values['dynamics.arm_inertia'], 'dynamics.arm_inertia')
-                                    if oscillating else (values['dynamics.mass'],
-                                                         'dynamics.mass'))),
+        train=parse_train(values, values[inertia_name]),
         parameters=dict(values),
     )
 
@@ -276,7 +278,10 @@ def _closure(values: Mapping[str, Any], metre: float) -> dict[str, Any]:
 
 
 def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool) -> None:
-    """Bound every length and follower position (the specs cannot: their unit varies)."""
+    """Bound every length and follower position (the specs cannot: their unit varies).
+
+    A length with a smallest meaningful size (spec.least, m) is 0 or at least that.
+    """
     length_bound = (MAX_LENGTH_M / metre, f'{MAX_LENGTH_M / metre:g} {values["length_unit"]}')
     if values['length_unit'] == 'deg':
         length_bound = (MAX_ROTARY_DEG, f'{MAX_ROTARY_DEG:g} deg')
@@ -290,6 +295,26 @@ def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool
             if any(abs(item) > limit for item in items):
                 raise InvalidParameter(spec.name, list(items) if items is value else value,
                                        f'must not exceed {text} in magnitude')
+        if spec.least is not None and spec.unit == 'length_unit' \
+                and 0.0 < values[spec.name] < spec.least / metre:
+            raise InvalidParameter(spec.name, values[spec.name], least_rule(
+                f'{spec.least / metre:g} {values["length_unit"]}'))
+
+
+def _check_scca(values: Mapping[str, Any]) -> None:
+    """Check motion.scca_fractions whenever given, as the scca law does (segments using it or
+    not): three fractions b, c, d in [0, 1] adding up to 1."""
+    fractions = values['motion.scca_fractions']
+    if not fractions:
+        return
+    rule = 'must be 3 fractions b, c, d in [0, 1] that add up to 1'
+    if len(fractions) != 3:
+        raise InvalidParameter('motion.scca_fractions', list(fractions), rule)
+    try:
+        make_law('scca', **dict(zip('bcd', fractions)))
+    except InvalidParameter as err:
+        raise InvalidParameter('motion.scca_fractions', list(fractions),
+                               f'{rule} ({err.parameter} = {err.value!r}: {err.rule})') from err
 
 
 def _check_parallel(values: Mapping[str, Any], names: tuple[str, ...]) -> None:

@@ -48,7 +48,6 @@ import numpy as np
 import numpy.typing as npt
 
 from .contact import effective_modulus, half_width, peak_pressure
-from ..errors import InvalidParameter
 from ..geometry.followers import Follower, OscillatingRoller, TranslatingFlat, TranslatingRoller
 
 Array = npt.NDArray[np.float64]
@@ -93,29 +92,12 @@ def parse_dynamics(values: Mapping[str, Any], metre: float,
                    follower_type: str) -> Optional[DynamicsConfig]:
     """Return the dynamics of checked flat parameter values, None when no mass is given.
 
-    values hold every parameter (defaults filled in) already checked against its spec; metre is
-    the length unit in m. Raises InvalidParameter for rules that span parameters.
+    values hold every parameter (defaults filled in) already checked against its spec and the
+    rules across parameters (config.schema); metre is the length unit in m.
     """
-    oscillating = follower_type.startswith('oscillating')
-    name, other = ('dynamics.arm_inertia', 'dynamics.mass') if oscillating \
-        else ('dynamics.mass', 'dynamics.arm_inertia')
-    if values[other]:
-        unit = 'kg m^2' if oscillating else 'kg'
-        raise InvalidParameter(other, values[other],
-                               f'a {follower_type} follower takes {name} ({unit}) instead')
+    name = 'dynamics.arm_inertia' if follower_type.startswith('oscillating') else 'dynamics.mass'
     if not values[name]:
         return None
-    for poisson in ('contact.cam_poisson', 'contact.follower_poisson'):
-        if not values[poisson] < 0.5:
-            raise InvalidParameter(poisson, values[poisson], 'must be in [0, 0.5)')
-    for positive in ('contact.face_width', 'contact.cam_modulus', 'contact.follower_modulus'):
-        if not values[positive] > 0.0:
-            raise InvalidParameter(positive, values[positive],
-                                   f'must be > 0 when {name} is given (the contact stress '
-                                   'needs it)')
-    if values['contact.friction'] and follower_type.endswith('roller'):
-        raise InvalidParameter('contact.friction', values['contact.friction'],
-                               'applies to flat faces only (a roller rolls); use 0.0')
     return DynamicsConfig(
         inertia=values[name], spring_rate=values['dynamics.spring_rate'],
         spring_preload=values['dynamics.spring_preload'],

@@ -8,8 +8,6 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping, Optional
 
-from ..errors import InvalidParameter
-
 
 @dataclass(frozen=True)
 class TrainConfig:
@@ -28,30 +26,23 @@ class TrainConfig:
         return 2.0 * math.pi * self.natural_frequency
 
 
-def parse_train(values: Mapping[str, Any], inertia: float,
-                inertia_name: str) -> Optional[TrainConfig]:
+def parse_train(values: Mapping[str, Any], inertia: float) -> Optional[TrainConfig]:
     """Return the train of checked flat values, None without a frequency or a stiffness.
 
-    inertia is the follower's mass (kg) or arm inertia (kg m^2) named inertia_name, needed to
-    turn dynamics.train_stiffness into a frequency: fn = sqrt(k / m) / (2 pi).
+    inertia is the follower's mass (kg) or arm inertia (kg m^2), which turns
+    dynamics.train_stiffness into a frequency (train_frequency); the rules across the train's
+    parameters are config.schema's.
     """
-    frequency = values['dynamics.train_natural_frequency']
-    stiffness = values['dynamics.train_stiffness']
-    if frequency and stiffness:
-        raise InvalidParameter('dynamics.train_stiffness', stiffness,
-                               'give dynamics.train_natural_frequency or '
-                               'dynamics.train_stiffness, not both')
-    if stiffness:
-        if not inertia:
-            raise InvalidParameter('dynamics.train_stiffness', stiffness,
-                                   f'needs {inertia_name} to give a natural frequency (or give '
-                                   'dynamics.train_natural_frequency instead)')
-        frequency = math.sqrt(stiffness / inertia) / (2.0 * math.pi)
-    compensate = values['dynamics.compensate']
+    frequency = train_frequency(values, inertia)
     if not frequency:
-        if compensate:
-            raise InvalidParameter('dynamics.compensate', compensate,
-                                   'needs the follower train: give '
-                                   'dynamics.train_natural_frequency or dynamics.train_stiffness')
         return None
-    return TrainConfig(frequency, values['dynamics.train_damping_ratio'], compensate)
+    return TrainConfig(frequency, values['dynamics.train_damping_ratio'],
+                       values['dynamics.compensate'])
+
+
+def train_frequency(values: Mapping[str, Any], inertia: float) -> float:
+    """Return the train's natural frequency (Hz; 0: rigid): given, or sqrt(k / m) / (2 pi)."""
+    stiffness = values['dynamics.train_stiffness']
+    if stiffness and inertia:
+        return math.sqrt(stiffness / inertia) / (2.0 * math.pi)
+    return float(values['dynamics.train_natural_frequency'])

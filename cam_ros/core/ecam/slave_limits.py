@@ -61,10 +61,15 @@ class SlaveLimits:
         """Read the (already checked) slave.* parameters in the axis's unit."""
         values = config.parameters
         unit = math.radians(1.0) if config.oscillating else UNITS[config.length_unit]
-        return cls(values['slave.max_velocity'] * unit, values['slave.max_acceleration'] * unit,
+
+        def si(name: str) -> float:
+            """A limit in SI: a positive one stays positive (only 0 means none), however small."""
+            value = values[name]
+            return max(value * unit, math.ulp(0.0)) if value > 0.0 else 0.0
+
+        return cls(si('slave.max_velocity'), si('slave.max_acceleration'),
                    DIRECTIONS[values['slave.direction']],
-                   TWO_PI if config.length_unit == 'deg' else 0.0,
-                   values['slave.max_jerk'] * unit)
+                   TWO_PI if config.length_unit == 'deg' else 0.0, si('slave.max_jerk'))
 
     @property
     def limited(self) -> bool:
