@@ -117,3 +117,15 @@ def test_a_positive_slave_limit_is_a_limit_however_small(value, unit):
 def test_a_zero_slave_limit_means_none():
     design = build_design(parse_parameters({**DEFAULT, 'slave.max_velocity': 0.0}))
     assert not SlaveLimits.from_config(design.config).limited and design.slave_excess == ''
+
+
+def test_scca_fractions_of_an_scca_segment_are_refused_naming_the_segment():
+    values = {**DEFAULT, 'motion.laws': ['dwell', 'scca', 'dwell', 'simple_harmonic'],
+              'motion.scca_fractions': [0.5, 0.5, 0.5]}
+    with pytest.raises(InvalidParameter) as built:
+        build_design(parse_parameters(values))
+    with pytest.raises(InvalidParameter) as served:
+        machine_from_values(values)
+    assert str(built.value) == str(served.value) == (
+        'motion.scca_fractions = [0.5, 0.5, 0.5]: b + c + d = 1.5: the fractions must add up to '
+        '1 (scca law of segment 1)')

@@ -302,10 +302,10 @@ def _check_magnitudes(values: Mapping[str, Any], metre: float, oscillating: bool
 
 
 def _check_scca(values: Mapping[str, Any]) -> None:
-    """Check motion.scca_fractions whenever given, as the scca law does (segments using it or
-    not): three fractions b, c, d in [0, 1] adding up to 1."""
+    """Check motion.scca_fractions given with no scca segment as the scca law would: three
+    fractions b, c, d in [0, 1] adding up to 1 (an scca segment's law checks them, naming it)."""
     fractions = values['motion.scca_fractions']
-    if not fractions:
+    if not fractions or 'scca' in values['motion.laws']:
         return
     rule = 'must be 3 fractions b, c, d in [0, 1] that add up to 1'
     if len(fractions) != 3:
