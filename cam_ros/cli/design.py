@@ -92,12 +92,14 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                              'a cutter path: gcode (default), csv (the nominal contour with '
                              'its unit normals, for a CMM), dxf')
     spacing = parser.add_mutually_exclusive_group()
-    spacing.add_argument('--tolerance', default=None, metavar='T',
+    spacing.add_argument('--tolerance', default=None, metavar='T', action='append',
                          help='a cam table: place points so that the interpolation stays '
                               'within T of the exact law, T in the table\'s unit (the config\'s '
                               'length_unit, deg for oscillating followers); a cutter path: the '
                               'chordal tolerance in length_unit (required); or with a unit: '
-                              '0.01mm, 10um, 1e-5m, 0.1deg')
+                              '0.01mm, 10um, 1e-5m, 0.1deg. A cam table may take one per kind '
+                              'of unit (--tolerance 10um --tolerance 0.001deg): each axis takes '
+                              'the one of its unit')
     machining = parser.add_argument_group('cutter path')
     machining.add_argument('--machining', action='store_true',
                            help='write a cutter path (G-code) or the nominal contour instead of '
@@ -155,3 +157,26 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                              'another needs the token printed with the URL)')
     parser.add_argument('--open', dest='open_browser', action='store_true',
                         help='open the page in the default browser')
+
+    parser = _command(sub, 'plan', 'cam_ros.commands.plan:plan', 'Plan the moves onto the cams',
+                      'The moves an engagement or a recovery makes from the axes\' positions '
+                      'onto their cams, in time, with the master at a position and a constant '
+                      'speed (default at rest): each move\'s duration and peaks against the '
+                      'axis\'s limits, the order when moving together would collide, and each '
+                      'interference pair\'s smallest gap or margin during the moves.',
+                      exit_codes('a move cannot be made within its axis\'s limits, or the moves '
+                                 'collide together and in every order'))
+    parser.add_argument('config', metavar='CONFIG', help=config_help)
+    parser.add_argument('--position', action='append', required=True, metavar='AXIS=VALUE',
+                        help='where an axis is (repeat per axis; the others are on their cams): '
+                             'in its length_unit (deg for a rotary or oscillating axis) or with '
+                             'a unit: knife=330, jaw=12mm; a single cam\'s axis is follower, or '
+                             'give VALUE alone')
+    parser.add_argument('--master-speed', type=FINITE, default=0.0, metavar='W',
+                        help='the master\'s constant speed during the moves, rad/s of machine '
+                             'angle as cam_speed (default 0: at rest)')
+    parser.add_argument('--master-position', default='0', metavar='A',
+                        help='machine angle where the moves start, deg or with a unit (0.5rad; '
+                             'default 0)')
+    parser.add_argument('--json', dest='json_output', action='store_true',
+                        help='print one JSON object instead of text')

@@ -47,19 +47,38 @@ class PairCheck:
 Position = Callable[[FloatArray], FloatArray]
 
 
-def _cycles(axis: Axis) -> int:
+def cycles(axis: Axis) -> int:
     """Return how many times an axis repeats per machine cycle (1 / master.scaling)."""
     return round(1.0 / axis.cam.mapping.master_scaling)
 
 
+def rotary(axis: Axis) -> bool:
+    """Say whether an axis is a rotary slave (length_unit deg), checked modulo a turn."""
+    return axis.design.config.length_unit == 'deg'
+
+
+def as_checked(axis: Axis, y: FloatArray) -> FloatArray:
+    """Return an axis's positions (SI) as the checks take them: a rotary slave's modulo a turn."""
+    values = np.asarray(y, dtype=float)
+    return np.mod(values, TWO_PI) if rotary(axis) else values
+
+
 def _position(axis: Axis) -> Position:
     """Return y(theta) of an axis at machine angles (SI; a rotary slave's modulo a turn)."""
-    rotary = axis.design.config.length_unit == 'deg'
-
     def y(theta: FloatArray) -> FloatArray:
-        values = np.asarray(axis.cam.derivatives(theta).y, dtype=float)
-        return np.mod(values, TWO_PI) if rotary else values
+        return as_checked(axis, axis.cam.derivatives(theta).y)
     return y
+
+
+def turn_crossings(y: Position, grid: FloatArray, breaks: FloatArray,
+                   period: float | None = TWO_PI) -> FloatArray:
+    """Return where positions y(x) (SI, rad) pass a whole turn: where y modulo a turn jumps.
+
+    grid: a dense sampling of x; breaks: where y or a derivative jumps; period as refine_roots.
+    """
+    def half_sine(x: FloatArray) -> FloatArray:
+        return np.sin(0.5 * np.asarray(y(x), dtype=float))
+    return refine_roots(half_sine, grid, half_sine(grid), breaks=breaks, period=period)
 
 
 def _breaks(axis: Axis, theta: FloatArray) -> FloatArray:
@@ -69,18 +88,15 @@ def _breaks(axis: Axis, theta: FloatArray) -> FloatArray:
     rotary slave, every whole turn of y (where y modulo a turn jumps).
     """
     joints = np.concatenate((axis.cam.breaks(0.0, TWO_PI), [0.0]))
-    if axis.design.config.length_unit != 'deg':
+    if not rotary(axis):
         return joints
-
-    def half_sine(angles: FloatArray) -> FloatArray:
-        return np.sin(0.5 * np.asarray(axis.cam.derivatives(angles).y, dtype=float))
-    turns = refine_roots(half_sine, theta, half_sine(theta), breaks=joints)
+    turns = turn_crossings(lambda angles: axis.cam.derivatives(angles).y, theta, joints)
     return np.concatenate((joints, turns))
 
 
 def _grid(*axes: Axis) -> FloatArray:
     """Return CHECK_SAMPLES machine angles per cycle of the fastest-repeating axis."""
-    count = CHECK_SAMPLES * max(_cycles(axis) for axis in axes)
+    count = CHECK_SAMPLES * max(cycles(axis) for axis in axes)
     return np.linspace(0.0, TWO_PI, count, endpoint=False)
 
 
