@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+import numpy.typing as npt
 
 from ..arrays import FloatArray
 from ..cam_angles import TWO_PI
@@ -57,7 +58,7 @@ def rotary(axis: Axis) -> bool:
     return axis.design.config.length_unit == 'deg'
 
 
-def as_checked(axis: Axis, y: FloatArray) -> FloatArray:
+def as_checked(axis: Axis, y: npt.ArrayLike) -> FloatArray:
     """Return an axis's positions (SI) as the checks take them: a rotary slave's modulo a turn."""
     values = np.asarray(y, dtype=float)
     return np.mod(values, TWO_PI) if rotary(axis) else values
@@ -70,7 +71,8 @@ def _position(axis: Axis) -> Position:
     return y
 
 
-def turn_crossings(y: Position, grid: FloatArray, breaks: FloatArray,
+def turn_crossings(y: Callable[[FloatArray], npt.ArrayLike], grid: FloatArray,
+                   breaks: FloatArray,
                    period: float | None = TWO_PI) -> FloatArray:
     """Return where positions y(x) (SI, rad) pass a whole turn: where y modulo a turn jumps.
 
