@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from cam_ros.core import InvalidParameter
+from cam_ros.core.machine.served import machine_from_values
 from cam_ros.exit_codes import EXIT_OK
 
 
@@ -13,6 +14,7 @@ def studio(config: str | None = None, port: int = 8770, host: str = '127.0.0.1',
     if not 0 <= port <= 65535:
         raise InvalidParameter('--port', port, 'must be in 0..65535 (0: a free port)')
     document = document_of(config)
+    machine_from_values(document.values)  # a design the CLI refuses is refused as it does
     try:
         serve(document, host, port, open_browser)
     except OSError as err:
