@@ -16,7 +16,8 @@ from cam_ros.core import build_design, InvalidParameter
 from cam_ros.core.config.schema import parse_parameters
 from cam_ros.core.geometry.closure import (conjugate_follower, constant_breadth, groove_contours,
                                            groove_flanks)
-from cam_ros.core.geometry.followers import TranslatingFlat, TranslatingRoller
+from cam_ros.core.geometry.followers import (OscillatingRoller, TranslatingFlat,
+                                             TranslatingRoller)
 from cam_ros.core.geometry.machining import cam_contour
 from cam_ros.core.motion.laws import make_law
 from cam_ros.core.motion.program import MotionProgram
@@ -254,3 +255,79 @@ def test_per_angle_stress_is_the_carrying_flanks_hertz_pressure():
     loads = design.side_loads
     assert max(side.contact_stress_max for side in loads.sides) == pytest.approx(
         design.dynamics_check.contact_stress_max, rel=1e-9)
+
+
+def to_cam_frame(theta, sigma, point):
+    """Turn a fixed-frame point (or vector) at cam angle theta into the cam frame."""
+    c, n = np.cos(theta), np.sin(sigma * theta)
+    return np.array((c * point[0] + n * point[1], -n * point[0] + c * point[1]))
+
+
+def test_conjugate_arm_two_traces_its_closed_form(clockwise):
+    """Arm 2 at psi0 + s - gamma: its roller centre written out, and the pitch curve's
+    curvature and pressure angle from central differences of that centre (not from the code's
+    derivatives)."""
+    swing = 15 * DEG
+    program = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * DEG, 0.0, 0.0),
+                             Segment(make_law('cycloidal'), 90 * DEG, 200 * DEG, 0.0, swing),
+                             Segment(make_law('dwell'), 200 * DEG, 240 * DEG, swing, swing),
+                             Segment(make_law('cycloidal'), 240 * DEG, 2 * math.pi, swing, 0.0)))
+    first = OscillatingRoller(30 * MM, 8 * MM, 90 * MM, 70 * MM, True)
+    second = conjugate_follower(first, program, 100 * DEG)
+    sigma = -1 if clockwise else 1
+    lam, arm, pivot = sigma, 70 * MM, 90 * MM  # the arm turns with the cam
+
+    def centre(theta):
+        psi = first.initial_arm_angle + program.evaluate(theta).s - 100 * DEG
+        return to_cam_frame(theta, sigma, (lam * arm * np.sin(psi), pivot - arm * np.cos(psi)))
+
+    h = 1e-4
+    theta = np.linspace(0.0, 2 * math.pi, 2001, endpoint=False)
+    theta = theta[np.abs(theta[:, np.newaxis] - np.array(program.breaks)).min(axis=1) > 3 * h]
+    values = program.evaluate(theta)
+    profile = second._geometry(theta, sigma, values.s, values.ds, values.d2s)
+    np.testing.assert_allclose(profile.pitch, centre(theta), rtol=0.0, atol=1e-15)
+    before, here, after = centre(theta - h), centre(theta), centre(theta + h)
+    tangent, bend = (after - before) / (2 * h), (after - 2 * here + before) / h ** 2
+    curvature = (tangent[0] * bend[1] - tangent[1] * bend[0]) / np.hypot(*tangent) ** 3
+    sign = np.sign(np.median(curvature * profile.pitch_curvature))
+    np.testing.assert_allclose(profile.pitch_curvature, sign * curvature, rtol=1e-5)
+    # sin(pressure angle) = the unit tangent (fixed frame) along the roller's motion, w.
+    c, n = np.cos(theta), np.sin(sigma * theta)
+    fixed = np.array((c * tangent[0] - n * tangent[1], n * tangent[0] + c * tangent[1]))
+    psi = first.initial_arm_angle + values.s - 100 * DEG
+    along = (fixed[0] * lam * np.cos(psi) + fixed[1] * np.sin(psi)) / np.hypot(*fixed)
+    np.testing.assert_allclose(np.abs(np.sin(profile.pressure_angle)), np.abs(along),
+                               rtol=0.0, atol=1e-8)
+    assert np.abs(along).max() > 0.1  # the arm moves: the check is not of zeros
+
+
+def test_a_conjugate_yokes_cam_two_is_checked_with_the_limits_swapped(clockwise):
+    """Cam 2 drives the return: its rise is checked against the return's limit and the other
+    way round; its largest pressure angle is roller 2's closed form, refined."""
+    design = build_design(config(**{
+        'follower.closure': 'conjugate', 'follower.offset': 4.0,
+        'rotation': 'clockwise' if clockwise else 'counterclockwise',
+        'limits.pressure_angle_deg': 35.0, 'limits.pressure_angle_return_deg': 25.0}))
+    closure = design.closure
+    assert closure.closure == 'conjugate' and closure.breadth is None  # offset: no breadth test
+    second = closure.second
+    assert second.pressure_angle_limit == pytest.approx(25 * DEG, rel=1e-15)
+    assert second.pressure_angle_return_limit == pytest.approx(35 * DEG, rel=1e-15)
+    sigma, offset = (-1 if clockwise else 1), 4 * MM
+    d = math.sqrt(38 ** 2 - 4 ** 2) * MM
+    values = SEED.evaluate(DENSE)
+    worst = np.arctan(np.abs(values.ds - sigma * offset) / (d + RISE - values.s)).max()
+    assert second.max_pressure_angle == pytest.approx(worst, rel=1e-9)
+    assert second.max_pressure_angle >= worst
+    assert closure.sides['second'].radius_of_curvature_min == second.min_radius
+
+
+def test_a_conjugate_yoke_without_offset_reports_its_constant_breadth_spread():
+    design = build_design(config(**{'follower.closure': 'conjugate'}))
+    breadth = design.closure.breadth
+    half = DENSE[DENSE < math.pi]
+    spread = np.ptp(SEED.evaluate(half).s + SEED.evaluate(half + math.pi).s)
+    assert not breadth.holds
+    assert breadth.spread == pytest.approx(spread, rel=1e-9) and breadth.spread >= spread
+    assert build_design(config(**{'follower.closure': 'force'})).closure is None

@@ -76,6 +76,21 @@ def test_setpoints_are_the_derivatives_of_the_positions_at_the_machine_speed():
         np.testing.assert_allclose(setpoints.velocity, slope * omega, rtol=0.0,
                                    atol=1e-6 * max(1.0, np.abs(slope).max() * omega))
         np.testing.assert_array_equal(setpoints.position, machine.positions(q)[:, index])
+    # The acceleration at a steady master (alpha 0 unless given), and with a master's alpha.
+    h2, alpha = 1e-4, -4.0
+    for index, (steady, speeding_up) in enumerate(zip(machine.setpoints(q, omega),
+                                                      machine.setpoints(q, omega, alpha))):
+        breaks = machine.axes[index].cam.breaks(0.0, 7.0)
+        smooth = np.abs(q[:, np.newaxis] - breaks).min(axis=1) > 2 * h2  # no joint in reach
+        y = [machine.positions(q[smooth] + step)[:, index] for step in (-h2, 0.0, h2)]
+        slope, curvature = (y[2] - y[0]) / (2 * h2), (y[2] - 2 * y[1] + y[0]) / h2 ** 2
+        scale = max(1.0, np.abs(curvature).max() * omega ** 2)
+        np.testing.assert_allclose(steady.acceleration[smooth], curvature * omega ** 2, rtol=0.0,
+                                   atol=1e-5 * scale)
+        np.testing.assert_allclose(speeding_up.acceleration[smooth],
+                                   curvature * omega ** 2 + slope * alpha, rtol=0.0,
+                                   atol=1e-5 * scale)
+        assert np.abs(slope * alpha).max() > 1e-3 * scale  # alpha shows in the figure
 
 
 def test_a_scalar_angle_gives_one_position_per_axis():
