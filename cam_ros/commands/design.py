@@ -6,7 +6,7 @@ import math
 import sys
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
+from typing import Iterator, Sequence
 
 import numpy as np
 
@@ -140,7 +140,7 @@ def plot(config: str, output: str, angle_deg: float = 0.0, vibration: bool = Fal
 
 
 def export(config: str, output: str, samples: int | None = None, cam_table: bool = False,
-           points: int | None = None, tolerance: str | None = None,
+           points: int | None = None, tolerance: str | Sequence[str] | None = None,
            file_format: str | None = None, interpolation: str | None = None,
            end_point: bool | None = None, derivatives: bool = False, machining: bool = False,
            cutter_radius: str | None = None, compensation: str | None = None,
@@ -149,8 +149,12 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
     """Write the cam surface (mm), a cutter path, a cam table or the cam switch tracks.
 
     Or a machine's timing diagram (timing_diagram); axis takes one axis of a machine file.
+    tolerance: one, or one per kind of unit (a length, an angle) for a cam table.
     """
     from cam_ros.output.drawing import EXPORT_SAMPLES, WRITERS, export_surface
+
+    tolerances = [tolerance] if isinstance(tolerance, str) else list(tolerance or ())
+    tolerance = ' '.join(tolerances) or None  # as refusals quote it
 
     if timing_diagram:
         from cam_ros.commands.machine import export_timing_diagram, refuse_options
@@ -193,6 +197,9 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
     if machining:
         from cam_ros.commands.machining import export_machining
 
+        if len(tolerances) > 1:
+            raise InvalidParameter('--tolerance', tolerances[1], 'a cutter path takes one '
+                                   '--tolerance (in length_unit or with its unit)')
         return export_machining(config, output, cutter_radius, tolerance,
                                 file_format or 'gcode', compensation, arcs, axis)
     if cam_table:
@@ -200,10 +207,12 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         if table_format not in TABLE_FORMATS:
             raise InvalidParameter('--format', table_format, 'a cam table takes one of '
                                    + ', '.join(TABLE_FORMATS))
+        from cam_ros.commands.machine_export import export_machine_tables
+
         if axis is None and is_machine(read_parameters_file(config)):
-            return export_machine_tables(config, output, points, tolerance, table_format,
+            return export_machine_tables(config, output, points, tolerances, table_format,
                                          interpolation, end_point, derivatives)
-        return export_cam_table(config, output, points, tolerance, table_format,
+        return export_cam_table(config, output, points, tolerances, table_format,
                                 interpolation, end_point, derivatives, axis)
     surface_only = {**table_options, **machining_options, '--tolerance': tolerance,
                     '--format': file_format}
@@ -240,10 +249,14 @@ def export_switches(config: str, output: str, table_format: str) -> int:
     return EXIT_OK
 
 
-def export_cam_table(config: str, output: str, points: int | None, tolerance: str | None,
-                     table_format: str, interpolation: str | None, end_point: bool | None,
-                     derivatives: bool, axis: str | None = None) -> int:
-    """Write a cam table (master deg -> slave) of a config for a PLC or drive to import."""
+def export_cam_table(config: str, output: str, points: int | None,
+                     tolerances: Sequence[str], table_format: str, interpolation: str | None,
+                     end_point: bool | None, derivatives: bool, axis: str | None = None) -> int:
+    """Write a cam table (master deg -> slave) of a config for a PLC or drive to import.
+
+    tolerances: none, one, or one per kind of unit (the one of the table's unit is taken).
+    """
+    from cam_ros.commands.machine_export import cam_tolerance
     from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
                                                   table_rounding)
     from cam_ros.core.rounding import ceil_sig
@@ -254,9 +267,10 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
     interpolation, with_derivatives = check_options(table_format, interpolation, derivatives)
     if table_format == MOTION_FUNCTIONS:
         _motion_function_options(points, end_point)
-    if tolerance is not None:
-        split_quantity('--tolerance', tolerance)  # a typo is refused before the config is read
+    for text in tolerances:
+        split_quantity('--tolerance', text)  # a typo is refused before the config is read
     design = load_design(config, axis)
+    tolerance = cam_tolerance(tolerances, design.config)
     unit, factor = design.config.file_position_unit
     limit = None if tolerance is None else positive_quantity(  # in the table's unit
         '--tolerance', tolerance, design, angular=design.config.angular)
@@ -298,36 +312,6 @@ def export_cam_table(config: str, output: str, points: int | None, tolerance: st
         print(f'note: the {table_format} file has no comment syntax: its characteristic values '
               f'are those of `cam_ros export --format csv`')
     return verdict('export', design)
-
-
-def export_machine_tables(config: str, output: str, points: int | None, tolerance: str | None,
-                          table_format: str, interpolation: str | None, end_point: bool | None,
-                          derivatives: bool) -> int:
-    """Write one cam table per axis of a machine file into the folder output, named by axis."""
-    from cam_ros.core.machine import build_machine, parse_machine
-    from cam_ros.output.cam_table_formats import check_target
-
-    folder = Path(output)
-    if folder.exists() and not folder.is_dir():
-        raise InvalidParameter('-o', output, 'must be a folder for a machine file\'s tables '
-                               '(one per axis)')
-    machine = build_machine(parse_machine(read_parameters_file(config)))
-    for axis in machine.axes:  # every axis is checked before any table is written
-        try:
-            check_target(table_format, axis.design)
-            if tolerance is not None:
-                positive_quantity('--tolerance', tolerance, axis.design,
-                                  angular=axis.design.config.angular)
-        except InvalidParameter as err:
-            raise InvalidParameter(err.parameter, err.value,
-                                   f'{err.rule} for axis {axis.name}') from err
-    with writing('export', f'making {folder}', folder):
-        folder.mkdir(parents=True, exist_ok=True)
-    codes = [export_cam_table(config, str(folder / f'{name}{TABLE_FORMATS[table_format].suffix}'),
-                              points, tolerance, table_format, interpolation, end_point,
-                              derivatives, name)
-             for name in machine.config.names]
-    return max(codes)
 
 
 @contextmanager
