@@ -2,8 +2,8 @@
 
 Fenced blocks by language:
 - ``sh``: command lines. `cam_ros` lines are parsed by the real argparse parser, and the cheap
-  design commands (report, sample, export, plot) run for real and must exit 0; `make` names a
-  Makefile target and existing files; `cam_node`, `ros2 run` and `export` lines are checked as
+  design commands (report, sample, export, plot, plan) run for real and must exit 0; `make`
+  names a Makefile target and existing files; `cam_node`, `ros2 run` and `export` lines are checked as
   described in `check_command`. Anything else fails: a new kind of command needs a rule here.
 - ``console``: `$ command` lines (run as above) followed by an excerpt of their output: every
   shown line must appear in the real output, in order (`...` stands for lines left out). A
@@ -43,7 +43,7 @@ PAGES = [REPO / 'README.md', *sorted(DOCS.glob('*.md'))]
 LANGUAGES = ('sh', 'console', 'yaml', 'python', 'text')
 COMPILE_ONLY = '<!-- docs: compile only (needs a running node) -->'
 #: cam_ros commands cheap enough to run for real on the shipped configs (a second or two each).
-RUN = {'report', 'sample', 'export', 'plot'}
+RUN = {'report', 'sample', 'export', 'plot', 'plan'}
 TIMEOUT_S = 120
 #: An output line saying the design breaks its limits: the only excuse for an example's exit 1.
 FAILING = re.compile(r'Verdict: (VIOLATES its limits|.*(violates its limits|COLLIDES))'
