@@ -3,8 +3,9 @@
 Fenced blocks by language:
 - ``sh``: command lines. `cam_ros` lines are parsed by the real argparse parser, and the cheap
   design commands (report, sample, export, plot, plan) run for real and must exit 0; `make`
-  names a Makefile target and existing files; `cam_node`, `ros2 run` and `export` lines are checked as
-  described in `check_command`. Anything else fails: a new kind of command needs a rule here.
+  names a Makefile target and existing files; `cam_node`, `ros2 run` and `export` lines are
+  checked as described in `check_command`. Anything else fails: a new kind of command needs a
+  rule here.
 - ``console``: `$ command` lines (run as above) followed by an excerpt of their output: every
   shown line must appear in the real output, in order (`...` stands for lines left out). A
   command may exit 1 (the design breaks its limits) only where its excerpt shows it: a line
