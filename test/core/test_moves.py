@@ -14,11 +14,12 @@ import pytest
 from conftest import CONFIG_DIR
 from ruckig import InputParameter, Ruckig, Trajectory
 
-from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.core import read_parameters_file
 from cam_ros.core.ecam import moves as moves_module
-from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
 from cam_ros.core.ecam.moves import AxisState, Bounds, MasterMotion, Move, on_cam, plan_move
-from cam_ros.core.ecam.slave_limits import AxisUnit, CamPeaks, PLAN_MARGIN, SlaveLimits
+from cam_ros.core.ecam.slave_limits import CamPeaks, PLAN_MARGIN, SlaveLimits
+from cam_ros.core.machine.move_check import axis_limits
+from cam_ros.core.machine.served import machine_from_values
 
 KNIFE = CONFIG_DIR / 'rotary_knife.yaml'
 DEFAULT = CONFIG_DIR / 'default.yaml'
@@ -32,11 +33,9 @@ def axis(path, **changes):
     """Return (cam, limits, unit, nominal master speed) of a params file with changes."""
     values = read_parameters_file(path)
     values.update(changes)
-    config = parse_parameters(values)
-    design = build_design(config)
-    master = MasterConfig.from_config(config)
-    return (ElectronicCam(design.program, master.mapping), SlaveLimits.from_config(config),
-            AxisUnit.of(config), master.nominal_speed)
+    (one,) = machine_from_values(values).axes  # a single cam: a machine of one axis
+    limits, unit, nominal = axis_limits(one)
+    return one.cam, limits, unit, nominal
 
 
 def knife(**changes):
