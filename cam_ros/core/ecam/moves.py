@@ -98,19 +98,11 @@ class MovePeaks(NamedTuple):
 
     def excess(self, limits: SlaveLimits, unit: AxisUnit) -> str:
         """Say which limits these peaks pass ('' if none), with the figures."""
-        over = []
-        for name, value, limit, per in (('velocity', self.velocity, limits.max_velocity, '/s'),
-                                        ('acceleration', self.acceleration,
-                                         limits.max_acceleration, '/s^2'),
-                                        ('jerk', self.jerk, limits.max_jerk, '/s^3')):
-            if limit and value > limit:
-                over.append(f'{name} {unit.say(value, per)} over slave.max_{name} '
-                            f'{unit.say(limit, per)}')
-        if limits.direction and self.backward > BACKWARD_TOLERANCE:
-            way = 'negative' if limits.direction > 0 else 'positive'
-            over.append(f'moves {way} at {unit.say(self.backward, "/s")} against '
-                        'slave.direction')
-        return '; '.join(over)
+        over = [Peaks(self.velocity, self.acceleration, self.backward).excess(limits, unit)]
+        if limits.max_jerk and self.jerk > limits.max_jerk:
+            over.append(f'jerk {unit.say(self.jerk, "/s^3")} over slave.max_jerk '
+                        f'{unit.say(limits.max_jerk, "/s^3")}')
+        return '; '.join(item for item in over if item)
 
 
 class Bounds(NamedTuple):
