@@ -1,5 +1,5 @@
 """
-What the electronic cam sends its drives, for a master sample or a hold.
+What the electronic cam sends its drives at each step of its line shaft.
 
 ~/commands (std_msgs/Float64MultiArray: position or velocity of every axis joint, in the axes'
 order, what a forward_command_controller with joints: [axes] takes), ~/joint_states (the master
@@ -9,9 +9,8 @@ one that matters.
 """
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
+from builtin_interfaces.msg import Time
 from rclpy.duration import Duration
 from rclpy.node import Node
 from rclpy.publisher import Publisher
@@ -22,7 +21,6 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cam_ros.core.ecam.axes import Commands, SlaveAxes
 from cam_ros.core.ecam.master import MasterConfig
-from cam_ros.core.ecam.master_tracker import MasterState
 from cam_ros.node.joints import CAM_JOINT
 from cam_ros.node.qos_events import publisher
 
@@ -39,40 +37,29 @@ class CommandTopics:
     def __init__(self, node: Node, axes: SlaveAxes, joint_pub: Publisher, config: MasterConfig):
         """Create ~/commands and ~/joint_trajectory."""
         self._axes, self._joint_pub, self.config = axes, joint_pub, config
+        self.stamp_ns = 0  # the last stamp sent
         self.commands = publisher(node, Float64MultiArray, '~/commands', COMMAND_QOS)
         self.trajectory = publisher(node, JointTrajectory, '~/joint_trajectory', COMMAND_QOS)
 
-    def sample(self, header: Any, state: MasterState, commands: Commands) -> None:
-        """Send every axis's command for a master sample, then its joint states (the master
-        message's header) and trajectory."""
+    def sample(self, stamp_ns: int, master: float, speed: float, commands: Commands) -> None:
+        """Send every axis's command, then the joint states (the master joint at position
+        master, speed speed) and trajectory, stamped stamp_ns or, if that is not after the last
+        stamp sent, 1 ns after it: every stamp sent is later than the one before."""
         axes = self._axes
         self.commands.publish(Float64MultiArray(data=axes.values(commands)))
+        self.stamp_ns = max(stamp_ns, self.stamp_ns + 1)
         joints = JointState(name=[CAM_JOINT, *axes.names],
-                            position=[state.position, *commands.position],
-                            velocity=[state.omega, *commands.velocity])
-        joints.header = header
+                            position=[master, *commands.position],
+                            velocity=[speed, *commands.velocity])
+        joints.header.stamp = Time(sec=self.stamp_ns // 10 ** 9, nanosec=self.stamp_ns % 10 ** 9)
         self._joint_pub.publish(joints)
         horizon, count = self.config.trajectory_horizon, self.config.trajectory_points
         if horizon > 0.0:
             times = horizon / count * np.arange(1, count + 1)
-            ahead = axes.ahead(state, times)
+            ahead = axes.ahead(times)
             self.trajectory.publish(self._trajectory(times, *(
                 np.array([getattr(point, field) for point in ahead])
                 for field in ('position', 'velocity', 'acceleration'))))
-
-    def hold(self, values: list[float], held: list[float], master: float, stamp: Any) -> None:
-        """Send the hold commands (values, one per axis), every axis at rest at its held
-        position, the master joint at master (rad), stamped stamp."""
-        self.commands.publish(Float64MultiArray(data=values))
-        joints = JointState(name=[CAM_JOINT, *self._axes.names], velocity=[0.0] * (len(held) + 1),
-                            position=[master, *held])
-        joints.header.stamp = stamp
-        self._joint_pub.publish(joints)
-        horizon = self.config.trajectory_horizon
-        if horizon > 0.0:
-            rest = np.zeros((len(held), 1))
-            self.trajectory.publish(self._trajectory(np.array([horizon]),
-                                                     np.array(held)[:, np.newaxis], rest, rest))
 
     def _trajectory(self, times: np.ndarray, positions: np.ndarray, velocities: np.ndarray,
                     accelerations: np.ndarray) -> JointTrajectory:

@@ -14,7 +14,7 @@ from rclpy.node import Node
 
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.axes import SlaveAxes
-from cam_ros.core.ecam.follow import FAULT
+from cam_ros.core.ecam.line_shaft import FILTERED, LineShaft
 from cam_ros.core.ecam.master_tracker import LOST, MasterTracker, OK, STALE, WAITING
 from cam_ros.core.ecam.switches import SwitchTracks
 from cam_ros.recording import Recorder
@@ -42,24 +42,31 @@ def design_status(node: Node, design: CamDesign, jump: float | None,
 
 
 def master_status(node: Node, tracker: MasterTracker, speed_limit: tuple[float, str],
-                  **values: Any) -> DiagnosticStatus:
-    """Say how the master is (ok, stale, lost, over its speed limit), with its counts."""
+                  shaft: LineShaft, **values: Any) -> DiagnosticStatus:
+    """Say how the master is (ok, stale, lost, over its speed limit, filtered by the line shaft),
+    with its counts and the line shaft's lag."""
     last = tracker.last
-    level = max(LEVELS[tracker.status], DiagnosticStatus.WARN if tracker.overspeed
+    filtered = shaft.mode == FILTERED
+    level = max(LEVELS[tracker.status], DiagnosticStatus.WARN if tracker.overspeed or filtered
                 else DiagnosticStatus.OK)
-    message = tracker.status + (f', over {speed_limit[1]}' if tracker.overspeed else '')
+    message = tracker.status + (f', over {speed_limit[1]}' if tracker.overspeed else '') + (
+        ', filtered' if filtered else '')
     dropped = {f'dropped: {reason}': count for reason, count in tracker.dropped.items()}
     topic = values.pop('topic')
     return status(node, 'master', level, message, topic=topic, accepted=tracker.accepted,
                   new_origins=tracker.jumps, dropped=sum(tracker.dropped.values()), **dropped,
                   speed=last.omega if last else 0.0,
-                  speed_limit=f'{speed_limit[0]:.6g} ({speed_limit[1]})', **values)
+                  speed_limit=f'{speed_limit[0]:.6g} ({speed_limit[1]})',
+                  line_shaft=shaft.mode + (f': {shaft.why}' if shaft.why else ''),
+                  lag_deg=f'{np.degrees(shaft.lag):.6g}', filtered_steps=shaft.filtered,
+                  **values)
 
 
-def engagement_status(node: Node, axes: SlaveAxes, tracks: SwitchTracks,
+def engagement_status(node: Node, axes: SlaveAxes, tracks: SwitchTracks, faulted: bool,
                       **values: Any) -> DiagnosticStatus:
-    """Say what the slaves do, their engage mode and the cam switches' states."""
-    level = DiagnosticStatus.ERROR if any(follower.phase == FAULT for follower in axes.followers) \
+    """Say what the slaves do (ERROR while a fault stops them), their engage mode and the cam
+    switches' states."""
+    level = DiagnosticStatus.ERROR if faulted \
         else DiagnosticStatus.OK if axes.engaged else DiagnosticStatus.WARN
     word = tracks.word or 0
     switches = {f'switch {name}': 'on' if word >> index & 1 else 'off'

@@ -2,18 +2,23 @@
 Electronic cam on ROS 2: follow a master axis topic and command a ros2_control axis.
 
 The CamNode creates a MasterFollower when master.source is topic, for the axes it serves (a
-machine's, or the single cam's joint follower: one path for both). For every accepted master
-message (sensor_msgs/JointState) it publishes ~/commands for a forward_command_controller
-(position or velocity of every axis joint, in the axes' order), ~/joint_states with the master's
-stamp (the master joint and every axis joint) and, with a trajectory horizon, ~/joint_trajectory
-for a joint_trajectory_controller (command_topics.py sends those); /diagnostics about once a
-second. One master subscription, one speed estimate for all axes; every number comes from
+machine's, or the single cam's joint follower: one path for both). The axes follow the machine's
+line shaft (cam_ros.core.ecam.line_shaft), stepped by the newest master message (sensor_msgs/
+JointState; a backlog is skipped and counted) and, while the master is silent for
+COAST_INTERVALS of its intervals or the line shaft stops, by a clock thread of its own. Each
+step publishes ~/commands for a forward_command_controller (position or velocity of every axis
+joint, in the axes' order), ~/joint_states (the master joint and every axis joint, stamps always
+increasing) and, with a trajectory horizon, ~/joint_trajectory for a joint_trajectory_controller
+(command_topics.py sends those); /diagnostics about once a second. A master loss, a following
+error, ~/engage false and deactivating are synchronized stops of the line shaft, never a stop in
+one message. One master subscription, one speed estimate for all axes; every number comes from
 cam_ros.core.ecam.
 """
 from __future__ import annotations
 
 import threading
-from typing import Any, Callable, Mapping, Sequence
+import time
+from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -24,12 +29,14 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import SetBool
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import by_axis, SlaveAxes
-from cam_ros.core.ecam.follow import EngageConfig, Follower, STOPPING
+from cam_ros.core.ecam.axes import by_axis, Commands, SlaveAxes
+from cam_ros.core.ecam.follow import EngageConfig, Follower
+from cam_ros.core.ecam.line_shaft import AT_REST, INACTIVE, LOST as HALTED_LOST
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
                                               MasterTracker, OK, read_master)
+from cam_ros.core.ecam.path_limits import PathLimits
 from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.ecam.switches import switch_table, SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
@@ -44,10 +51,16 @@ from cam_ros.node.command_topics import COMMAND_QOS, CommandTopics
 from cam_ros.node.qos_events import LATCHED, publisher
 
 DIAGNOSTICS_PERIOD_S = 1.0
+#: The line shaft's clock: its period, and the master silence (in the master's own intervals, at
+#: least one period) after which it steps the line shaft instead of the master's messages.
+CLOCK_PERIOD_S, COAST_INTERVALS = 0.005, 3
+#: Longest deactivate waits for the synchronized stop to come to rest.
+STOP_WAIT_S = 10.0
 
 
 class MasterFollower:
-    """Turn master messages into every axis's commands; hand design changes over smoothly.
+    """Turn master messages into every axis's commands along the line shaft; hand design
+    changes over smoothly.
 
     axes: (joint name, design) per axis; their machine-wide parameters (master.*, switches.*,
     command.trajectory_*) are the first axis's. switches: the switches.* values, on the machine
@@ -75,6 +88,7 @@ class MasterFollower:
         values = first.parameters
         self._config = MasterConfig.from_config(first)
         self._units = [AxisUnit.of(design.config) for _, design in axes]
+        self._parameters = [dict(design.config.parameters) for _, design in axes]
         self._axes = SlaveAxes(
             [name for name, _ in axes],
             [Follower(design.electronic_cam,
@@ -95,12 +109,17 @@ class MasterFollower:
         self._changed_after: int | None = None
         self._said: tuple[str, int | None, int] = ('', None, 0)  # status, switches, changes
         self._overspeed_said = False
-        self._active = active  # a managed node's inactive state sends nothing
+        self._active = active  # a managed node's inactive state sends nothing once at rest
+        self._faulted = ''  # the axis whose following error stopped the line shaft
+        self._arrived_ns = 0  # when the newest master message arrived (node clock)
+        self._interval_ns = 0  # the master's last stamp interval
+        self._skipped = 0  # master messages skipped behind a newer one
+        self._rested = False  # the line shaft's rest was sent
         self._topics = CommandTopics(node, self._axes, joint_pub, self._config)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
-        self._lock = threading.Lock()  # master thread vs executor (timers, updates)
+        self._lock = threading.Lock()  # master and clock threads vs executor (timers, updates)
         self._slave_topics = sorted({design.config.parameters['slave.state_topic']
                                      for _, design in axes} - {''})
         self._log = EcamLog(node, LATCHED, self._slave_topics, SLAVE_QOS)
@@ -112,6 +131,10 @@ class MasterFollower:
         self._master_sub = self._intake.entity
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
+        self._clock_stop = threading.Event()
+        self._clock = threading.Thread(target=self._run_clock, name='line shaft clock',
+                                       daemon=True)
+        self._clock.start()
         self._publish_state()
         interfaces = ', '.join(f'{name} {interface}' for name, interface in
                                zip(self._axes.names, self._axes.interfaces))
@@ -130,11 +153,17 @@ class MasterFollower:
 
     def change(self, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any]) -> None:
-        """Take new designs: offsets blended, other changes at a common place or at once."""
+        """Take new designs: offsets blended, other changes at a common place or at once; the
+        line shaft's limits are those of the new designs (computed before the lock)."""
         first = axes[0][1].config
         config, values = MasterConfig.from_config(first), first.parameters
         statuses = design_statuses(self._node, axes)
         limit, table = _speed_limit(axes), switch_table(switches)
+        engage_configs = [EngageConfig.from_parameters(design.config.parameters)
+                          for _, design in axes]
+        slave_limits = [SlaveLimits.from_config(design.config) for _, design in axes]
+        path = PathLimits.of([design.electronic_cam for _, design in axes], slave_limits,
+                             engage_configs[0].nominal_speed, engage_configs[0].distance)
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
             self._design_statuses, self._config = statuses, config
@@ -147,19 +176,24 @@ class MasterFollower:
             self._units = [AxisUnit.of(design.config) for _, design in axes]
             self._feedback.watches = watches(axes)
             said = []
-            for (name, design), follower, unit in zip(axes, self._axes.followers, self._units):
+            for (name, design), follower, unit, engage, limits, before in zip(
+                    axes, self._axes.followers, self._units, engage_configs, slave_limits,
+                    self._parameters):
                 cam = design.electronic_cam
                 if not self._machine and follower.cam.mapping != cam.mapping:
                     self._tracks = SwitchTracks(table)  # the cam angle of the switches moved
                 follower.unit = unit
                 # Said under the lock: the master thread cannot apply it (and say so) before.
-                said.append(follower.change(
-                    cam, EngageConfig.from_parameters(design.config.parameters),
-                    SlaveLimits.from_config(design.config)))
+                told = follower.change(cam, engage, limits)
+                if design.config.parameters != before:
+                    said.append((name, told))
+            self._axes.shaft.retarget(path, any(limit.direction for limit in slave_limits))
+            self._parameters = [dict(design.config.parameters) for _, design in axes]
             self._axes.interfaces = _interfaces(axes)
             if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
-            self._last_handover = by_axis(self._axes.names, said)
+            self._last_handover = by_axis([name for name, _ in said],
+                                          [told for _, told in said]) or 'no axis changed'
             last = tracker.last
             self._changes += 1
             self._changed_after = None if last is None else last.stamp_ns
@@ -167,58 +201,78 @@ class MasterFollower:
             self._publish_state()
 
     def stop(self) -> None:
-        """Stop taking master messages (before the node is destroyed)."""
+        """Stop taking master messages and the clock (before the node is destroyed)."""
+        self._clock_stop.set()
+        self._clock.join()
         self._intake.stop()
 
     def activate(self) -> None:
-        """Send commands again: every axis engages in its mode from where it is held."""
+        """Send commands again: the line shaft catches up with the master."""
         with self._lock:
             self._active = True
+            if self._axes.shaft.why == INACTIVE:
+                self._axes.shaft.follow()
+                self._rested = False
             self._publish_state()
 
     def deactivate(self) -> None:
-        """Send one hold command for every axis, then nothing (master messages stay tracked)."""
+        """Stop the line shaft on the cams and wait (up to STOP_WAIT_S) until it rests; then
+        send nothing (master messages stay tracked)."""
         with self._lock:
-            self._axes.lose('inactive')
-            self._hold()
+            self._axes.shaft.halt(INACTIVE)
             self._active = False
             self._publish_state()
+        deadline = time.monotonic() + STOP_WAIT_S
+        while time.monotonic() < deadline:
+            with self._lock:
+                if self._rested or self._tracker.last is None:
+                    return
+            time.sleep(CLOCK_PERIOD_S)
 
-    # Master messages, slave state, ~/engage ----------------------------------------------
-    def _on_master(self, message: JointState) -> None:
+    # Master messages, the clock, slave state, ~/engage -------------------------------------
+    def _on_master(self, message: JointState, arrived_ns: int, skipped: int) -> None:
         with self._lock:
+            self._skipped += skipped
             try:
-                self._follow(message)
+                self._follow(message, arrived_ns)
             except Exception as err:  # a bug must cost one message, not the master thread
-                self._node.get_logger().error(f'master message not followed: {err!r}',
-                                              throttle_duration_sec=5.0)
+                if self._node.context.ok():  # at shutdown the publishers go first: no bug
+                    self._node.get_logger().error(f'master message not followed: {err!r}',
+                                                  throttle_duration_sec=5.0)
 
-    def _follow(self, message: JointState) -> None:
+    def _follow(self, message: JointState, arrived_ns: int) -> None:
         tracker, before = self._tracker, self._tracker.status
+        arrived_ns = arrived_ns or self._node.get_clock().now().nanoseconds
         try:
             position, velocity = read_master(self._config.joint, message.name, message.position,
                                              message.velocity, message.effort)
+            last = tracker.last
             state = tracker.accept(stamp_ns(message.header.stamp), position, velocity,
-                                   self._node.get_clock().now().nanoseconds)
+                                   arrived_ns)
         except BadMaster as bad:
             tracker.drop(bad.reason)
             self._node.get_logger().warning(
                 f'dropped a master message: {bad.reason} ({tracker.dropped[bad.reason]} so far)',
                 throttle_duration_sec=5.0)
             return
-        if not self._active:  # tracked (the speed estimate stays warm), nothing commanded
+        self._arrived_ns = arrived_ns
+        if last is not None:
+            self._interval_ns = state.stamp_ns - last.stamp_ns
+        if not self._sending():  # tracked (the speed estimate stays warm), nothing commanded
             return
         if state.origin:
             self._node.get_logger().warning(
                 f'new master origin: the master moved {tracker.jump:.6g} rad in '
                 f'{tracker.jump_time:.6g} s, more than {JUMP_FACTOR:g} x '
                 f'{tracker.plausible_speed():.6g} rad/s allows ({tracker.jumps} so far): the '
-                f'slaves hold and engage again from where they are')
+                f'line shaft takes its position modulo a machine cycle')
+        shaft = self._axes.shaft
+        if before == LOST and shaft.why == HALTED_LOST and not self._faulted:
+            shaft.follow()
+            self._rested = False
+            self._node.get_logger().info('master back: the line shaft catches up with it')
         handovers = [follower.handover for follower in self._axes.followers]
-        commands = self._axes.command(state)
-        if commands is not None:
-            self._topics.sample(message.header, state, commands)
-            self._history.add(state.stamp_ns, commands.position, commands.velocity)
+        self._send(state.stamp_ns, state.position, state.omega, self._axes.command(state))
         self._say_events()
         for name, handover, follower, unit in zip(self._axes.names, handovers,
                                                   self._axes.followers, self._units):
@@ -237,6 +291,49 @@ class MasterFollower:
                 f'master speed {state.omega:.6g} rad/s over {self._speed_limit[1]} '
                 f'({self._speed_limit[0]:.6g} rad/s)')
         self._overspeed_said = tracker.overspeed
+
+    def _sending(self) -> bool:
+        """Say whether commands go out: active, or the line shaft has not come to rest yet."""
+        return self._active or not self._rested
+
+    def _send(self, stamp: int, master: float, speed: float,
+              commands: Optional[Commands]) -> None:
+        """Send the commands of a line shaft step (none before every axis has one); note the
+        line shaft's rest."""
+        if commands is None:
+            return
+        self._topics.sample(stamp, master, speed, commands)
+        self._history.add(self._topics.stamp_ns, commands.position, commands.velocity)
+        shaft = self._axes.shaft
+        self._rested = shaft.mode == AT_REST
+        if self._rested:
+            self._history.stop()
+
+    def _run_clock(self) -> None:
+        """Step the line shaft while the master is silent or it stops (its own thread, so a
+        busy executor cannot hold a stop up)."""
+        while not self._clock_stop.wait(CLOCK_PERIOD_S):
+            with self._lock:
+                try:
+                    self._tick()
+                except Exception as err:  # a bug must cost one step, not the clock
+                    if self._node.context.ok():
+                        self._node.get_logger().error(f'line shaft step failed: {err!r}',
+                                                      throttle_duration_sec=5.0)
+
+    def _tick(self) -> None:
+        """Step the line shaft on the clock once the master has been silent for
+        COAST_INTERVALS of its intervals, unless it rests (and said so) already."""
+        last, shaft = self._tracker.last, self._axes.shaft
+        if last is None or self._rested or not self._sending():
+            return
+        silent = self._node.get_clock().now().nanoseconds - self._arrived_ns
+        if silent < max(COAST_INTERVALS * self._interval_ns, int(CLOCK_PERIOD_S * 1e9)):
+            return
+        stamp = last.stamp_ns + silent  # the master's clock, carried on
+        self._send(stamp, last.position, 0.0, self._axes.tick(stamp, last.position))
+        if not shaft.following:
+            self._publish_state()
 
     def _say_events(self) -> None:
         """Log what the followers noted: blends over the cam's peaks, refusals, stops."""
@@ -257,21 +354,33 @@ class MasterFollower:
         self._node.get_logger().info(f'design change applied {self._last_handover}')
 
     def _fault(self, axis: str, error: float, limit: float, stamp: int) -> None:
-        """Hold every axis at its last command: the machine stops as one (lock held)."""
+        """Stop the line shaft on the cams: the machine stops as one (lock held). Said once
+        until ~/engage clears it."""
+        if self._faulted:
+            return
+        self._faulted = axis
         unit = self._units[self._axes.names.index(axis)]
-        self._axes.fault('following error')
-        self._hold()
+        self._axes.shaft.halt(f'following error of {axis}')
         self._node.get_logger().error(
             f'following error of {axis}: {unit.say(error)} over slave.following_error_limit '
-            f'{unit.say(limit)} at stamp {stamp} ns: every axis holds (~/engage true clears)')
+            f'{unit.say(limit)} at stamp {stamp} ns: the line shaft stops every axis on its '
+            f'cam (~/engage true clears once the error is within the limit)')
         self._publish_state()
 
     def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         with self._lock:
-            response.success, response.message = self._axes.engage(request.data)
-            if not request.data and not any(follower.phase == STOPPING
-                                            for follower in self._axes.followers):
-                self._hold()
+            over = self._feedback.over_limit(self._units) if request.data else ''
+            if over:
+                response.success = False
+                response.message = f'not engaged: {over}'
+            else:
+                if request.data and self._faulted:
+                    self._node.get_logger().info(
+                        f'following error of {self._faulted} cleared: every axis within '
+                        f'slave.following_error_limit')
+                    self._faulted = ''
+                response.success, response.message = self._axes.engage(request.data)
+                self._rested = self._rested and not request.data
             self._say_events()
             self._publish_state()
             last = self._tracker.last
@@ -281,33 +390,20 @@ class MasterFollower:
 
     def _watch(self) -> None:
         with self._lock:
-            self._hold_when_lost()
+            self._stop_when_lost()
 
-    def _hold_when_lost(self) -> None:
-        """Notice master silence: hold every axis once the master is lost."""
+    def _stop_when_lost(self) -> None:
+        """Notice master silence: the line shaft stops every axis on its cam."""
         status = self._tracker.check(self._node.get_clock().now().nanoseconds)
-        if status != LOST or not self._active:
+        if status != LOST or not self._sending():
             return
-        self._axes.lose()
+        self._axes.shaft.halt(HALTED_LOST)
         self._tracks.reset()
-        held = ', '.join('nothing' if position is None else unit.say(position)
-                         for position, unit in zip(self._axes.held, self._units))
         self._node.get_logger().warning(
-            f'master silent for {self._config.timeout:g} s: holding '
-            f'{"the follower" if len(self._axes) == 1 else ", ".join(self._axes.names)} at '
-            f'{held}')
-        self._hold()
+            f'master silent for {self._config.timeout:g} s: the line shaft stops '
+            f'{"the follower" if len(self._axes) == 1 else ", ".join(self._axes.names)} on '
+            f'{"its cam" if len(self._axes) == 1 else "their cams"}')
         self._publish_state()
-
-    def _hold(self) -> None:
-        """Command the held positions at rest (nothing unless every axis was commanded)."""
-        values = self._axes.hold_values()
-        if values is None:
-            return
-        last, held = self._tracker.last, self._axes.held
-        self._topics.hold(values, [float(position) for position in held],  # type: ignore[arg-type]
-                          last.position if last else 0.0, self._node.get_clock().now().to_msg())
-        self._history.stop()  # the hold keeps the last command's positions
 
     def _publish_state(self) -> None:
         """Publish ~/state when the slaves' status, the switch word or the design changed."""
@@ -328,7 +424,7 @@ class MasterFollower:
 
     def _engagement_status(self) -> DiagnosticStatus:
         return engagement_status(
-            self._node, self._axes, self._tracks,
+            self._node, self._axes, self._tracks, bool(self._faulted),
             **{MASTER_TOPIC_KEY: self._master_sub.topic_name, DESIGN_CHANGES_KEY: self._changes,
                CHANGED_AFTER_KEY: ('none' if self._changed_after is None
                                    else self._changed_after)},
@@ -340,8 +436,8 @@ class MasterFollower:
         pending = [(name, follower.handover.describe())
                    for name, follower in zip(self._axes.names, self._axes.followers)
                    if follower.handover is not None]
-        return master_status(self._node, self._tracker, self._speed_limit,
-                             topic=self._master_sub.topic_name,
+        return master_status(self._node, self._tracker, self._speed_limit, self._axes.shaft,
+                             topic=self._master_sub.topic_name, skipped=self._skipped,
                              design_change=by_axis([name for name, _ in pending],
                                                    [said for _, said in pending]) or 'none',
                              last_design_change=self._last_handover)

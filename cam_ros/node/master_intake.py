@@ -1,5 +1,5 @@
 """
-Take the master axis's messages on a thread of their own, each as soon as it arrives.
+Take the master axis's messages on a thread of their own, the newest as soon as it arrives.
 
 Also the conversions every e-cam endpoint shares: stamps in ns, the WIRING parameters a running
 node refuses to change.
@@ -47,17 +47,19 @@ def refuse_rewiring(node: Node) -> None:
     node.add_on_set_parameters_callback(check)
 
 
-def master_intake(node: Node, topic: str, callback: Callable[[JointState], None]
+def master_intake(node: Node, topic: str, callback: Callable[[JointState, int, int], None]
                   ) -> OwnThread[Subscription]:
     """
-    Take master messages on a thread of their own, each as soon as it arrives.
+    Take master messages on a thread of their own, the newest of those waiting each time.
 
     The node's executor rebuilds a wait set of all its services, timers and subscriptions for
     every message; this thread waits on the master subscription alone, so a busy node adds no
-    latency between master and command. Callbacks run on this thread; OwnThread.stop() ends it.
+    latency between master and command. A node held up skips the backlog: callback(message,
+    arrival ns, skipped count) gets only the newest message, so it never commands late.
+    Callbacks run on this thread; OwnThread.stop() ends it.
     """
     # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
     # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
-    return OwnThread.subscription(
+    return OwnThread.newest(
         node, JointState, topic, callback, MASTER_QOS, 'master',
         event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))

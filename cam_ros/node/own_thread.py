@@ -66,6 +66,26 @@ class OwnThread(Generic[Entity]):
         return OwnThread(node, subscription, take_one, name)
 
     @staticmethod
+    def newest(node: Node, msg_type: Any, topic: str,
+               callback: Callable[[Any, int, int], None], qos: QoSProfile, name: str,
+               **options: Any) -> OwnThread[Subscription]:
+        """Subscribe as subscription() does, but take every message waiting and hand on only the
+        newest: callback(message, its arrival (ns, the middleware's reception stamp), how many
+        older ones were skipped). A set-point stream so never goes stale behind a backlog."""
+        subscription = node.create_subscription(msg_type, topic, lambda _: None, qos,
+                                                callback_group=TakenByIntake(), **options)
+
+        def take_newest() -> bool:
+            newest, skipped = None, -1
+            while (taken := subscription.handle.take_message(msg_type, subscription.raw)):
+                newest, skipped = taken, skipped + 1
+            if newest is None:
+                return False
+            callback(newest[0], int(newest[1]['received_timestamp']), skipped)
+            return True
+        return OwnThread(node, subscription, take_newest, name)
+
+    @staticmethod
     def service(node: Node, srv_type: Any, service_name: str,
                 callback: Callable[[Any, Any], Any]) -> OwnThread[Service]:
         """Create a service of node, callback(request, response) -> response, on a thread."""

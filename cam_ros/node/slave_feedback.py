@@ -57,6 +57,7 @@ class SlaveFeedback:
         self._node, self._axes, self._history = node, axes, history
         self.watches, self._lock, self._fault = watch, lock, fault
         self.dropped = self.unmatched = 0
+        self.errors: dict[int, float] = {}  # each reported axis's latest following error
         self._state_pub = publisher(node, ControllerState, '~/controller_state', STATE_QOS)
         for topic in topics:
             node.create_subscription(JointState, topic, self._on_report, SLAVE_QOS)
@@ -92,11 +93,21 @@ class SlaveFeedback:
             self._publish(message, found, references)  # type: ignore[arg-type]
             for (index, position, _), reference in zip(found, references):
                 error = reference.position - position  # type: ignore[union-attr]
+                self.errors[index] = error
                 watch = self.watches[index]
                 if watch.update(stamp, error):
                     watch.reset()
                     self._fault(self._axes.names[index], error, watch.limit, stamp)
                     return
+
+    def over_limit(self, units: Sequence[AxisUnit]) -> str:
+        """Say which axes' latest following error is over slave.following_error_limit ('' if
+        none): a fault must not be cleared while its cause is there."""
+        return '; '.join(
+            f'following error of {self._axes.names[index]} {units[index].say(error)} over '
+            f'slave.following_error_limit {units[index].say(self.watches[index].limit)}'
+            for index, error in sorted(self.errors.items())
+            if self.watches[index].limit and abs(error) > self.watches[index].limit)
 
     def _publish(self, message: JointState, found: list[tuple[int, float, float | None]],
                  references: list[Any]) -> None:

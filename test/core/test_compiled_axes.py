@@ -1,4 +1,5 @@
-"""SlaveAxes' compiled steady path against each Follower's own exact path, sample by sample."""
+"""SlaveAxes' compiled steady path against each Follower's own exact path, sample by sample: the
+followers alone are driven with the virtual master the axes' line shaft gave theirs."""
 from __future__ import annotations
 
 import math
@@ -10,7 +11,7 @@ import numpy as np
 from cam_ros.core.cam_angles import TWO_PI
 from cam_ros.core.ecam.axes import COMPILED_FROM, SlaveAxes
 from cam_ros.core.ecam.compiled import ACCURACY
-from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING, STOPPING
+from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam
 from cam_ros.core.ecam.master_tracker import MasterState
 from cam_ros.core.ecam.slave_limits import SlaveLimits
@@ -60,22 +61,21 @@ def run(axes: SlaveAxes, alone: list[Follower], track: np.ndarray, omega: np.nda
         events: dict[int, object] = {}) -> dict[str, list]:
     """Drive both with the same master samples; return per sample what each did.
 
-    events[k] is called with a follower list before sample k, on both sides. A sample is steady
-    when every exact follower was engaged before it and still is after it; tabled when no
-    follower of the axes ran its exact path.
+    events[k](axes, alone) is called before sample k. A sample is steady when every exact
+    follower was engaged before it and still is after it; tabled when no follower of the axes
+    ran its exact path.
     """
     counters = [Counted(follower) for follower in axes.followers]
     said: dict[str, list] = {'fast': [], 'exact': [], 'phases': [], 'tabled': [], 'steady': []}
     for k, (q, w) in enumerate(zip(track, omega)):
         if k in events:
-            events[k](axes.followers)  # type: ignore[operator]
-            events[k](alone)  # type: ignore[operator]
+            events[k](axes, alone)  # type: ignore[operator]
         engaged = all(follower.phase == ENGAGED for follower in alone)
         state = MasterState(k * 10 ** 6, q, w, 0.3, w * DT, q)
         before = sum(counter.calls for counter in counters)
         commands = axes.command(state)
         said['tabled'].append(sum(counter.calls for counter in counters) == before)
-        exact = [follower.command(state) for follower in alone]
+        exact = [follower.command(axes.virtual) for follower in alone]
         said['fast'].append(list(zip(commands.position, commands.velocity)))
         said['exact'].append([(float(p.position), float(p.velocity)) for p in exact])
         phases = [follower.phase for follower in axes.followers]
@@ -104,40 +104,69 @@ def test_steady_samples_are_tabled_and_blends_stops_and_engagements_stay_exact()
     track = 3.0 + np.cumsum(omega) * DT
     feeder = MACHINE.axis('feeder').cam
 
-    def shift(pairs):  # an offset change of the feeder: blended
-        pairs[0].change(ElectronicCam(feeder.program, replace(
-            feeder.mapping, master_offset=math.radians(10.0))), EngageConfig())
+    def shift(axes, alone):  # an offset change of the feeder: blended
+        for pairs in (axes.followers, alone):
+            pairs[0].change(ElectronicCam(feeder.program, replace(
+                feeder.mapping, master_offset=math.radians(10.0))), EngageConfig())
 
-    def lose(pairs):
-        for follower in pairs:
-            follower.lose()
+    def stop(axes, alone):  # the line shaft stops every axis on its cam
+        axes.engage(False)
 
-    def stop(pairs):  # the limited knife stops, the others hold
-        for follower in pairs:
-            follower.engage(False)
+    def engage(axes, alone):
+        axes.engage(True)
+        for follower in alone:
+            follower.engage()
 
-    def engage(pairs):
-        for follower in pairs:
-            follower.engage(True)
-
-    said = run(axes, alone, track, omega, {500: shift, 1000: lose, 1600: stop, 1800: engage})
+    said = run(axes, alone, track, omega, {500: shift, 1000: stop, 1800: engage})
     assert_close(said, fast, omega)
     assert said['tabled'] == said['steady']  # every steady sample, and only those
     assert sum(said['steady']) > 1200
-    assert STOPPING in {phases[3] for phases in said['phases']}
+    assert axes.shaft.mode == 'locked' and axes.shaft.filtered > 0  # stopped, caught up
     for mine, theirs in zip(fast, alone):  # a later blend starts where the commands were
         assert abs(mine.held - theirs.held) <= ACCURACY * float(np.max(strokes([mine])))
 
 
-def test_a_master_turning_back_under_a_one_way_axis_stops_it_on_the_same_sample():
+def test_a_master_turning_back_under_a_one_way_axis_is_followed_by_the_line_shaft_standing():
     fast, alone = followers(), followers()
     axes = SlaveAxes(['feeder', 'knife', 'jaw', 'knife2'], fast, ['position'] * 4)
     omega = np.concatenate((np.full(800, OMEGA), np.full(200, -OMEGA)))
-    track = 1.0 + np.cumsum(omega) * DT
+    track = 0.5 + np.cumsum(omega) * DT
     said = run(axes, alone, track, omega)
     assert_close(said, fast, omega)
-    stopped = [phases[3] == STOPPING for phases in said['phases']]
-    assert stopped.index(True) == 800  # the first sample turned back
+    assert set(said['phases'][-1]) == {ENGAGED}  # every axis stays on its cam
+    assert axes.virtual.omega == 0.0 and axes.shaft.mode == 'filtered'
+    assert sum(said['tabled']) > 200
+
+
+def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them():
+    # Only axes.command for 400 samples: the followers are not looked at in between, yet an
+    # offset change then blends from the last command sent, as the exact followers' does.
+    fast, alone = followers(), followers()
+    axes = SlaveAxes(['feeder', 'knife', 'jaw', 'knife2'], fast, ['position'] * 4)
+    k, last = 0, None
+    while k < 400 or last is None:
+        q = 3.0 + OMEGA * DT * k
+        state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
+        last = axes.command(state)
+        for follower in alone:
+            follower.command(axes.virtual)
+        k += 1
+    assert all(follower.phase == ENGAGED for follower in alone)
+    assert axes.held == last.position  # the tabled sample, noted when read
+    stroke = strokes(fast)
+    assert (np.abs(np.array(axes.held) - [f.held for f in alone]) <= ACCURACY * stroke).all()
+    feeder = MACHINE.axis('feeder').cam
+    moved = ElectronicCam(feeder.program, replace(feeder.mapping,
+                                                  master_offset=math.radians(10.0)))
+    said = [pairs[0].change(moved, EngageConfig()) for pairs in (axes.followers, alone)]
+    assert said[0] == said[1] and said[0].startswith('blended')
+    q = 3.0 + OMEGA * DT * k
+    state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
+    blending, exact = axes.command(state), [f.command(axes.virtual) for f in alone]
+    assert np.abs(np.array(blending.position) - [float(p.position) for p in exact]).max() <= \
+        ACCURACY * stroke.max()
+    assert np.abs(np.array(blending.velocity) - [float(p.velocity) for p in exact]).max() <= \
+        ACCURACY * OMEGA * stroke.max() * 10
 
 
 def test_a_one_shot_machine_ends_its_profile_on_the_same_sample():
@@ -183,32 +212,3 @@ def test_a_tabled_velocity_near_backward_leaves_the_stop_to_the_exact_path():
     first = int(np.argmax(track >= math.pi))  # the first sample on the fall
     assert [phases[0] for phases in said['phases']].index(HOLDING) == first
     assert sum(said['tabled']) > 200
-
-
-def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them():
-    # Only axes.command for 400 samples: the followers are not looked at in between, yet a
-    # hold and a stop then start from the last command sent, as the exact followers' do.
-    fast, alone = followers(), followers()
-    axes = SlaveAxes(['feeder', 'knife', 'jaw', 'knife2'], fast, ['position'] * 4)
-    k, last = 0, None
-    while k < 400 or last is None:
-        q = 3.0 + OMEGA * DT * k
-        state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
-        last = axes.command(state)
-        for follower in alone:
-            follower.command(state)
-        k += 1
-    assert all(follower.phase == ENGAGED for follower in alone)
-    assert axes.held == last.position  # the tabled sample, noted when read
-    stroke = strokes(fast)
-    assert (np.abs(np.array(axes.held) - [f.held for f in alone]) <= ACCURACY * stroke).all()
-    said_fast, said_alone = axes.engage(False), [f.engage(False) for f in alone]
-    assert said_fast[0] and all(ok for ok, _ in said_alone)
-    assert [f.phase for f in axes.followers] == [f.phase for f in alone]
-    q = 3.0 + OMEGA * DT * k
-    state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
-    stopping, exact = axes.command(state), [f.command(state) for f in alone]
-    assert np.abs(np.array(stopping.position) - [float(p.position) for p in exact]).max() <= \
-        ACCURACY * stroke.max()
-    assert np.abs(np.array(stopping.velocity) - [float(p.velocity) for p in exact]).max() <= \
-        ACCURACY * OMEGA * stroke.max() * 10

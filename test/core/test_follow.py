@@ -45,12 +45,10 @@ def test_ramp_joins_the_cam_from_the_held_position_and_is_exact_after():
 
 
 @pytest.mark.parametrize('mode', ['immediate', 'ramp', 'next_cycle'])
-def test_after_a_master_loss_the_same_mode_engages_from_the_held_command(mode):
-    follower = Follower(CAM, EngageConfig(mode='immediate', distance=DISTANCE), engage=True)
-    drive(follower, [1.0])  # on the cam's dwell at 0 deg
-    follower.change(CAM, EngageConfig(mode=mode, distance=DISTANCE))
-    follower.lose()
-    held = follower.held
+def test_each_mode_engages_from_the_held_position(mode):
+    follower = Follower(CAM, EngageConfig(mode=mode, distance=DISTANCE), engage=False)
+    held = follower.present = float(CAM.setpoints(1.0).position)  # the dwell at 0 deg's height
+    assert follower.engage()[0]
     q = 1.0 + 2 * math.pi - 0.3 + OMEGA * DT * np.arange(100)  # back 0.3 rad before angle 0
     points, phases = drive(follower, q)
     if mode == 'immediate':
@@ -65,7 +63,7 @@ def test_after_a_master_loss_the_same_mode_engages_from_the_held_command(mode):
 def test_next_cycle_refuses_a_held_position_off_the_cycle_start():
     follower = Follower(CAM, EngageConfig(mode='next_cycle'), engage=False)
     follower.present = 0.005
-    ok, message = follower.engage(True)
+    ok, message = follower.engage()
     assert not ok and 'next_cycle cannot engage' in message and follower.phase == HOLDING
 
 
@@ -76,7 +74,7 @@ def test_a_one_shot_cam_holds_its_end_and_runs_again_on_engage():
     end = int(np.argmax(q - q[0] >= 2 * math.pi))
     assert set(phases[:end]) == {ENGAGED} and set(phases[end:]) == {END_OF_PROFILE}
     assert points[end:] == [float(CAM.setpoints(q[0] + 2 * math.pi).position)] * (150 - end)
-    assert follower.engage(True)[0]
+    assert follower.engage()[0]
     again, phases = drive(follower, q[-1] + OMEGA * DT * np.arange(1, 5))
     assert phases == [ENGAGED] * 4
 
@@ -95,14 +93,3 @@ def test_an_offset_change_blends_to_the_new_offset_over_the_distance():
     np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)
 
 
-def test_after_an_offset_blend_a_master_loss_re_engages_onto_the_new_offset():
-    follower = Follower(CAM, EngageConfig(mode='immediate', distance=DISTANCE), engage=True)
-    drive(follower, [1.0])
-    moved = ElectronicCam(CAM.program, replace(CAM.mapping, slave_offset=0.002))
-    follower.change(moved, EngageConfig(distance=DISTANCE))
-    drive(follower, 1.0 + OMEGA * DT * np.arange(1, 40))
-    follower.lose()
-    q = 3.0 + OMEGA * DT * np.arange(60)
-    points, phases = drive(follower, q)
-    after = q - q[0] >= DISTANCE
-    np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)

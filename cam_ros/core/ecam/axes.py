@@ -1,10 +1,13 @@
 """
-The slave axes of one master, commanded together: one Follower per axis, one master sample for all.
+The slave axes of one master, commanded together: one Follower per axis, one line shaft for all.
 
 A machine of N axes is the general case and a single cam is N = 1 (its joint named follower).
-Every master sample gives each axis its setpoints; commands go out only when every axis has one,
-since a forward_command_controller takes all its joints in one message. Engage, disengage and a
-master loss act on every axis at once (a machine starts and stops as one).
+Every master sample steps the machine's virtual master (line_shaft: within every axis's limits,
+from path_limits), and every axis follows it; commands go out only when every axis has one,
+since a forward_command_controller takes all its joints in one message. Disengaging, a master
+loss, a fault and deactivating halt the line shaft: a synchronized stop on the cams (a machine
+starts and stops as one, and never leaves its cams for it); while the master is silent the node's
+clock steps it (tick).
 
 From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.steady: engaged on
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
@@ -25,8 +28,10 @@ import numpy as np
 from ..motion.program import MotionProgram
 from .compiled import CompiledCams, compile_program, ProgramTable
 from .follow import END_OF_PROFILE, ENGAGED, Follower
+from .line_shaft import DISENGAGED, LineShaft, Virtual
 from .master import ElectronicCam, Setpoints
 from .master_tracker import MasterState
+from .path_limits import PathLimits
 
 #: Fewest axes whose steady commands come from the compiled tables: one pass costs about as much
 #: as 1.5 axes' exact paths (about 11 us against 7 us an axis; benchmarks/machine.py).
@@ -66,6 +71,8 @@ class SlaveAxes:
         if len(self.names) >= COMPILED_FROM:
             self._tables = {program: compile_program(program) for program in
                             {follower.cam.program for follower in self.followers}}
+        self.shaft = LineShaft(self.path_limits(), any(f.limits.direction for f in followers))
+        self.virtual: Optional[MasterState] = None  # what the followers last followed
 
     def __len__(self) -> int:
         return len(self.names)
@@ -79,9 +86,20 @@ class SlaveAxes:
                 follower.took(state, position, velocity)
         return self._followers
 
+    def path_limits(self) -> PathLimits:
+        """Return the master limits of the followers' cams and limits (a design change: call it
+        off the master thread, then give them to shaft.limits)."""
+        config = self._followers[0].config
+        return PathLimits.of([follower.cam for follower in self._followers],
+                             [follower.limits for follower in self._followers],
+                             config.nominal_speed, config.distance)
+
     @property
     def status(self) -> str:
-        """Say what the axes do: one status when they agree, else each axis's."""
+        """Say what the axes do: the line shaft's stop and why, else one status when the axes
+        agree, else each axis's."""
+        if not self.shaft.following:
+            return f'{self.shaft.mode}: {self.shaft.why}'
         said = [follower.status for follower in self.followers]
         if len(set(said)) == 1:
             return said[0]
@@ -90,8 +108,9 @@ class SlaveAxes:
     @property
     def engaged(self) -> bool:
         """Say whether every axis follows its cam or ended its one-shot profile (or is off)."""
-        return all(follower.phase in (ENGAGED, END_OF_PROFILE) or not follower.wanted
-                   for follower in self.followers)
+        return self.shaft.following and all(
+            follower.phase in (ENGAGED, END_OF_PROFILE) or not follower.wanted
+            for follower in self.followers)
 
     @property
     def held(self) -> list[Optional[float]]:
@@ -99,7 +118,27 @@ class SlaveAxes:
         return [follower.held for follower in self.followers]
 
     def command(self, state: MasterState) -> Optional[Commands]:
-        """Return every axis's command for a master sample, or None unless all have one."""
+        """Step the line shaft to a master sample; return every axis's command there, or None
+        unless all have one."""
+        if state.origin:
+            self.shaft.origin()
+        return self._follow(self._virtual(state.position, self.shaft.master(state)))
+
+    def tick(self, stamp_ns: int, position: float) -> Optional[Commands]:
+        """Step the line shaft to a time (ns, the master's clock) without a master sample (at
+        master position, for the joint states); return the commands, None before any."""
+        virtual = self.shaft.tick(stamp_ns)
+        return None if virtual is None else self._follow(self._virtual(position, virtual))
+
+    @staticmethod
+    def _virtual(position: float, virtual: Virtual) -> MasterState:
+        """Return the master sample the followers see: the virtual master's."""
+        return MasterState(virtual.stamp_ns, position, virtual.omega, virtual.alpha,
+                           virtual.step, virtual.theta)
+
+    def _follow(self, state: MasterState) -> Optional[Commands]:
+        """Return every axis's command at a virtual master state, or None unless all have one."""
+        self.virtual = state
         if len(self.names) >= COMPILED_FROM:
             steady = self._steady(state)
             if steady is not None:
@@ -148,33 +187,25 @@ class SlaveAxes:
         return [position if interface == 'position' else velocity for position, velocity,
                 interface in zip(commands.position, commands.velocity, self.interfaces)]
 
-    def hold_values(self) -> Optional[list[float]]:
-        """Return the hold command of each axis (its position, or velocity 0), None if any has
-        nothing commanded yet."""
-        held = self.held
-        if any(position is None for position in held):
-            return None
-        return [float(position) if interface == 'position' else 0.0  # type: ignore
-                for position, interface in zip(held, self.interfaces)]
-
-    def ahead(self, state: MasterState, times: np.ndarray) -> list[Setpoints]:
-        """Return each axis's setpoints at times (s) from now if the master keeps its speed."""
+    def ahead(self, times: np.ndarray) -> list[Setpoints]:
+        """Return each axis's setpoints at times (s) from the last command if the virtual master
+        keeps its speed."""
+        state = self.virtual
+        assert state is not None
         return [follower.ahead(state, times) for follower in self.followers]
 
     def engage(self, on: bool) -> tuple[bool, str]:
-        """Engage or disengage every axis; return success (all) and what each said."""
-        answers = [follower.engage(on) for follower in self.followers]
+        """Engage every axis (each from where it is, then the line shaft catches up with the
+        master) or disengage (the line shaft stops on the cams); return success (all) and what
+        each said."""
+        if not on:
+            stopping = self.shaft.following and self.shaft.state is not None
+            self.shaft.halt(DISENGAGED)
+            return True, 'disengaged: the line shaft stops every axis on its cam' if stopping \
+                else 'disengaged'
+        answers = [follower.engage() for follower in self.followers]
+        self.shaft.follow()
         return all(ok for ok, _ in answers), by_axis(self.names, [said for _, said in answers])
-
-    def fault(self, reason: str) -> None:
-        """Every axis holds at its last command until ~/engage clears the fault."""
-        for follower in self.followers:
-            follower.fault(reason)
-
-    def lose(self, reason: str = 'master lost') -> None:
-        """Every axis holds (the master is lost, or the node is deactivated)."""
-        for follower in self.followers:
-            follower.lose(reason)
 
     def events(self) -> list[str]:
         """Take what the followers noted (axis names in front when there are several)."""

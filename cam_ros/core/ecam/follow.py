@@ -1,11 +1,14 @@
 """
-Run a slave on an electronic cam: engage and disengage (PLCopen MC_CamIn start modes), master
-loss and new master origins, one-shot cams, offset changes and design changes, all without a step
-in the commands and, with slave limits set, within the axis's velocity, acceleration and
-direction (slave_limits).
+Run a slave on an electronic cam of its machine's line shaft: the first engagement (PLCopen
+MC_CamIn start modes), one-shot cams, offset changes and design changes, all without a step in
+the commands and, with slave limits set, within the axis's velocity, acceleration and direction
+(slave_limits).
 
-Start modes (master.engage_mode), used alike for ~/engage, at start-up, after a master loss and at
-a new master origin:
+The master a follower sees is the machine's virtual master (line_shaft): master losses, new
+master origins, disengaging, faults and an inactive node are stops and resynchronizations of that
+master, during which every axis stays on its cam; a follower never sees them.
+
+Start modes (master.engage_mode), used for ~/engage and at start-up:
 
 - immediate: the slave takes the cam's value at once (a step unless it is already there; with
   slave limits set, a ramp instead, since a step exceeds any limit).
@@ -22,9 +25,9 @@ by unwinding the turns it made.
 Offset changes blend from the old cam to the new one as engagements do; other design changes wait
 for a place the two designs share (Handover). A one-shot cam (master.periodic false) holds the
 position it reaches one master cycle (one cam turn) after its start: the end of profile.
-With slave limits or a direction set, a slave that can no longer follow (the master turned back
-under a one-way axis, or runs so fast that the cam exceeds the velocity limit) or is disengaged
-while moving stops within its acceleration limit (Stop), holds, and engages again once it can.
+With slave limits or a direction set, a slave whose blend can no longer be followed (the master
+turned back under a one-way axis, or runs so fast that the cam exceeds the velocity limit) stops
+within its acceleration limit (Stop), holds, and engages again once it can.
 """
 from __future__ import annotations
 
@@ -47,7 +50,7 @@ IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
 #: What the slave is doing: the message of ~/state and of the engagement diagnostics.
 HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle start', \
     'engaging', 'engaged'
-STOPPING, END_OF_PROFILE, FAULT = 'stopping', 'end of profile', 'fault'
+STOPPING, END_OF_PROFILE = 'stopping', 'end of profile'
 RUNNING = (ENGAGING, ENGAGED)
 #: next_cycle: largest difference (m or rad) between the held position and the cam at angle 0,
 #: and largest |dy/dtheta| there (per rad of cam), for a start without a step.
@@ -104,25 +107,13 @@ class Follower:
         """Say what the slave is doing, with why it holds."""
         return f'{self.phase}: {self.reason}' if self.reason else self.phase
 
-    def engage(self, on: bool) -> tuple[bool, str]:
-        """Engage (at the next master sample) or disengage (hold); return success and a message."""
-        if not on:
-            self.wanted = self._pending = False
-            self.handover = None
-            if self.phase in RUNNING and self.limits.max_acceleration and self._last is not None:
-                self._begin_stop('disengaged')
-                return True, f'disengaged: stopping within slave.max_acceleration from ' \
-                    f'{self.unit.say(self._velocity, "/s")}'
-            self.phase, self.reason = HOLDING, 'disengaged'
-            return True, f'disengaged: holding at {self.unit.say(self.held)}' \
-                if self.held is not None else 'disengaged'
+    def engage(self) -> tuple[bool, str]:
+        """Engage at the next master sample (if not engaged); return success and a message.
+
+        Disengaging is the machine's: its line shaft stops every axis on its cam."""
         self.wanted = True
         if self.phase in (ENGAGING, ENGAGED, WAITING_CYCLE):
             return True, f'already {self.phase}'
-        if self.phase == FAULT:  # cleared: engage from where the axis reports it is
-            self.phase, self.reason = HOLDING, ''
-            if self.present is not None:
-                self.held = self.present
         problem = self._next_cycle_problem(self._origin())
         if problem:
             self.phase, self.reason = HOLDING, problem
@@ -131,24 +122,6 @@ class Follower:
         if self.phase != STOPPING:
             self.phase, self.reason = HOLDING, ''
         return True, f'engaging ({self.config.mode}) at the next master message'
-
-    def fault(self, reason: str) -> None:
-        """Hold at the last command until ~/engage clears the fault (a following error)."""
-        self._last, self._stop, self.handover = None, None, None
-        self.phase, self.reason, self._pending = FAULT, reason, False
-
-    def lose(self, reason: str = 'master lost') -> None:
-        """Hold at the last command; engage again in the same mode at the next sample followed.
-
-        reason: why (the master is lost, or the node was deactivated).
-        """
-        self._last = None
-        if self.handover is not None:  # not following any more: the new design applies now
-            self._set_cam(shifted(self.handover.new, -self._turns, self.limits))
-            self.handover = None
-        if self.phase in RUNNING + (STOPPING,):
-            self.phase, self.reason, self._stop = HOLDING, reason, None
-            self._pending = self.wanted
 
     def change(self, cam: ElectronicCam, config: EngageConfig,
                limits: Optional[SlaveLimits] = None) -> str:
@@ -180,11 +153,7 @@ class Follower:
     def command(self, state: MasterState) -> Optional[Setpoints]:
         """Return the setpoints for a master sample (None: nothing commanded yet, none due)."""
         track = state.track
-        if state.origin and self.phase in RUNNING:
-            self._begin_stop('new master origin')
-        elif state.origin and self.phase == WAITING_CYCLE:
-            self.phase, self.reason, self._pending = HOLDING, 'new master origin', self.wanted
-        if self.phase in RUNNING and self.limits.limited:
+        if self.phase == ENGAGING and self.limits.limited:  # on the cam: the line shaft's
             problem = self._cam_problem(state.omega, velocity_only=True)
             if problem:
                 self._begin_stop(problem)
@@ -217,19 +186,17 @@ class Follower:
         Return the cam whose setpoints alone are this sample's command, or None.
 
         That is the cam the slave is engaged on (on its whole turns) when nothing else is due
-        at the sample: no engagement to begin, blend, pending design, stop, new master origin,
-        one-shot end, or cam speed over the slave's limits. Its setpoints, unless they move
+        at the sample: no engagement to begin, blend, pending design, stop or one-shot end.
+        Its setpoints, unless they move
         against slave.direction, are what command() returns; taking them with took() leaves the
         follower as command() does. None: call command().
         """
         path = self._path
-        if self.phase != ENGAGED or state.origin or self.handover is not None or (
+        if self.phase != ENGAGED or self.handover is not None or (
                 self._pending and self.wanted) or not isinstance(path, ElectronicCam):
             return None
         if not self.config.periodic and abs(state.track - self._start) >= \
                 TWO_PI * self.cam.mapping.master_scaling:
-            return None
-        if self.limits.limited and self._cam_problem(state.omega, velocity_only=True):
             return None
         return path
 

@@ -78,7 +78,6 @@ class LineShaft:
         self.locked = False  # theta_v is the master
         self._target: Optional[_Target] = None
         self._resync = False  # the next master sample sets shift again
-        self._cell = limits.cycle / len(limits.theta)
 
     # What it does --------------------------------------------------------------------------
     @property
@@ -101,6 +100,10 @@ class LineShaft:
         return self._target.theta - self.state.theta
 
     # Commands --------------------------------------------------------------------------------
+    def retarget(self, limits: PathLimits, one_way: bool) -> None:
+        """Take a new design's limits (theta_v goes on from where it is)."""
+        self.limits, self.one_way = limits, one_way
+
     def halt(self, why: str) -> None:
         """Stop theta_v within every limit, on the path, and rest (a synchronized stop)."""
         self.why = self.why or why
@@ -171,7 +174,8 @@ class LineShaft:
         self._wrap_lag(state, target)
         theta, omega = state.theta, state.omega
         fastest = max(abs(omega), abs(target.omega), 1e-9)
-        count = math.ceil(dt / min(SUBSTEP, SUBSTEP_TRAVEL * self._cell / fastest))
+        cell = self.limits.cycle / len(self.limits.theta)
+        count = math.ceil(dt / min(SUBSTEP, SUBSTEP_TRAVEL * cell / fastest))
         h = dt / count
         for left in range(count, 0, -1):
             theta, omega = self._substep(theta, omega, h, target, left * h)
@@ -219,9 +223,10 @@ class LineShaft:
     def _near(self, state: Virtual, target: _Target, dt: float) -> bool:
         """Say whether theta_v may lock on the target: within one step at CHASE of the band of
         the master's position and speed (a lock moves the commands as such a step would)."""
-        lower, upper = self.limits.band(state.theta, state.omega)
-        rate = CHASE * max(min(-lower, upper), 0.0)
         expected = state.theta + state.omega * dt
+        lower, upper = self.limits.band(expected, max(abs(state.omega), abs(target.omega)),
+                                        target.theta - expected)
+        rate = CHASE * max(min(-lower, upper), 0.0)
         return abs(target.theta - expected) <= 0.5 * rate * dt * dt and \
             abs(target.omega - state.omega) <= rate * dt
 

@@ -170,15 +170,27 @@ class PathLimits:
         return (math.sqrt(float(found.speed_cap()[0])), float(found.lower(s)[0]),
                 float(found.upper(s)[0]))
 
-    def band(self, theta: float, omega: float) -> tuple[float, float]:
-        """Return the admissible master accelerations (least, largest) at a master position and
-        speed from the grid: the safe side of the grid points either side of theta."""
-        index = int(np.searchsorted(self.theta, theta % self.cycle, side='right')) - 1
+    def band(self, theta: float, omega: float, travel: float = 0.0) -> tuple[float, float]:
+        """Return the admissible master accelerations (least, largest) at a master speed from
+        the grid, on the safe side over the grid points around theta and travel (rad) on."""
         found, s = self.bands, omega * omega
-        cells = slice(index, index + 2)
+        cells = self._span(theta, travel)
+        if isinstance(cells, slice) and cells.stop > len(self.theta) + 1:
+            cells = np.arange(cells.start, cells.stop) % len(self.theta)
         lower = found.lower0[:, cells] + found.lower1[:, cells] * s
         upper = found.upper0[:, cells] + found.upper1[:, cells] * s
         return float(lower.max()), float(upper.min())
+
+    def _span(self, theta: float, travel: float) -> slice:
+        """Return the grid points from the one at or before theta to the one at or after
+        theta + travel (indexes may pass the grid's end: they wrap)."""
+        grid, cycle, count = self.theta, self.cycle, len(self.theta)
+        low, high = sorted((theta, theta + travel))
+        turn_low, turn_high = math.floor(low / cycle), math.floor(high / cycle)
+        first = int(np.searchsorted(grid, low - turn_low * cycle, side='right')) - 1
+        last = int(np.searchsorted(grid, high - turn_high * cycle, side='left')) + \
+            (turn_high - turn_low) * count
+        return slice(first, max(last, first + 1) + 1)
 
     def speed_limit(self, theta: npt.ArrayLike) -> np.ndarray:
         """Return the maximum velocity curve (rad/s) at master positions theta, exactly."""
@@ -191,16 +203,10 @@ class PathLimits:
         around theta and the travel ahead (rad, in the direction; safe side of the grid).
         """
         curve = self.forward if direction >= 0.0 else self.backward
-        low, high = sorted((theta, theta + math.copysign(travel, direction)))
-        grid, cycle, count = self.theta, self.cycle, len(curve)
-        turn_low, turn_high = math.floor(low / cycle), math.floor(high / cycle)
-        first = int(np.searchsorted(grid, low - turn_low * cycle, side='right')) - 1
-        last = int(np.searchsorted(grid, high - turn_high * cycle, side='left')) + \
-            (turn_high - turn_low) * count
-        if last - first >= count:
+        cells = self._span(theta, math.copysign(travel, direction))
+        if cells.stop - cells.start > len(curve):
             return float(curve.min())
-        return float(curve.take(range(first, last + 1), mode='wrap').min())
-
+        return float(curve.take(range(cells.start, cells.stop), mode='wrap').min())
 
 def _derivatives(cams: Sequence[ElectronicCam], theta: npt.ArrayLike
                  ) -> tuple[np.ndarray, np.ndarray]:
