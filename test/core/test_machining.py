@@ -15,7 +15,8 @@ import pytest
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
-from cam_ros.core.geometry.machining import (cam_contour, check_cutter, place_points,
+from cam_ros.core.geometry.machining import (cam_contour, check_cutter, cutter_contours,
+                                             GROOVE_FIT, place_points,
                                              smallest_concave_radius)
 from cam_ros.core.motion.laws import make_law
 from cam_ros.core.motion.program import MotionProgram
@@ -31,6 +32,11 @@ SEED = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * DEG, 0.0, 0.0),
                       Segment(make_law('cycloidal'), 90 * DEG, 180 * DEG, 0.0, RISE),
                       Segment(make_law('dwell'), 180 * DEG, 240 * DEG, RISE, RISE),
                       Segment(make_law('simple_harmonic'), 240 * DEG, 2 * math.pi, RISE, 0.0)))
+#: The seed's laws with the rise first: its most curved concave part lies before 1 rad.
+EARLY = MotionProgram((Segment(make_law('cycloidal'), 0.0, 90 * DEG, 0.0, RISE),
+                       Segment(make_law('dwell'), 90 * DEG, 150 * DEG, RISE, RISE),
+                       Segment(make_law('simple_harmonic'), 150 * DEG, 270 * DEG, RISE, 0.0),
+                       Segment(make_law('dwell'), 270 * DEG, 2 * math.pi, 0.0, 0.0)))
 CENTRE = np.array([0.0, -RISE / 2])  # of the eccentric cam, in the cam frame
 RADIUS = BASE + RISE / 2
 ROTATIONS = {'ccw': False, 'cw': True}
@@ -73,9 +79,9 @@ def test_the_worst_deviation_on_a_circle_is_the_largest_chord_sagitta(tolerance,
     assert len(path.points) <= 2 * math.pi / (2 * math.acos(1 - tolerance / radius)) * 2 + 4
 
 
-def concave_seed_radius(theta, base, roller, offset, sigma):
+def concave_seed_radius(theta, base, roller, offset, sigma, program=SEED):
     """Return the surface radius of seed 000's roller cam in closed form (the notes)."""
-    values = SEED.evaluate(theta)
+    values = program.evaluate(theta)
     s, v, a = values.s, values.ds, values.d2s
     d = math.sqrt((base + roller) ** 2 - offset ** 2)
     along, across = d + s, v - sigma * offset
@@ -84,12 +90,14 @@ def concave_seed_radius(theta, base, roller, offset, sigma):
     return pitch - roller
 
 
-def test_the_smallest_concave_radius_is_the_closed_form_and_bounds_the_cutter(clockwise):
+@pytest.mark.parametrize('program', [SEED, EARLY], ids=['seed', 'rise first'])
+def test_the_smallest_concave_radius_is_the_closed_form_and_bounds_the_cutter(clockwise,
+                                                                              program):
     follower = TranslatingRoller(15 * MM, 10 * MM, 5 * MM)
-    contour = cam_contour(follower, SEED, clockwise)
+    contour = cam_contour(follower, program, clockwise)
     radius, at = smallest_concave_radius(contour)
     theta = np.linspace(0.0, 2 * math.pi, 720_000, endpoint=False)
-    rho = concave_seed_radius(theta, 15 * MM, 10 * MM, 5 * MM, -1 if clockwise else 1)
+    rho = concave_seed_radius(theta, 15 * MM, 10 * MM, 5 * MM, -1 if clockwise else 1, program)
     concave = rho < 0
     assert radius == pytest.approx(-rho[concave].max(), rel=1e-9)
     assert radius <= -rho[concave].max()  # refined: never above the dense minimum
@@ -160,3 +168,37 @@ def test_a_tolerance_needing_too_many_points_is_refused():
     contour = cam_contour(TranslatingFlat(BASE), ECCENTRIC, False)
     with pytest.raises(InvalidParameter, match=r'tolerance = 1e-15: needs more than'):
         place_points(contour, 1e-15)
+
+
+def test_cutter_contours_and_lead_in_of_a_cam_and_of_a_groove():
+    """The eccentric cam (a circle of RADIUS about CENTRE) and a groove of half width w about it:
+    every path is a circle whose radius says which offset was taken."""
+    cam = cam_contour(TranslatingFlat(BASE), ECCENTRIC, False)
+    theta = np.linspace(0.0, 2 * math.pi, 361)
+
+    def radii(contours):
+        return {key: np.hypot(*(contour.evaluate(theta)[0] - CENTRE[:, np.newaxis]))
+                for key, contour in contours.items()}
+
+    cutter, half = 3 * MM, 5 * MM
+    contours, lead_in = cutter_contours({'cam': cam}, cutter, nominal=True)
+    assert contours['cam'] is cam and lead_in == 2 * cutter  # compensation: 2 Rc clear
+    contours, lead_in = cutter_contours({'cam': cam}, cutter, nominal=False)
+    assert radii(contours)['cam'] == pytest.approx(RADIUS + cutter, rel=1e-12)
+    assert lead_in == cutter
+    groove = {'inner': cam.offset(-half), 'outer': cam.offset(half).flipped()}
+    assert cutter_contours(groove, cutter, True, half)[1] == half  # from the groove's middle
+    contours, lead_in = cutter_contours(groove, cutter, False, half)  # each flank in turn
+    assert radii(contours)['inner'] == pytest.approx(RADIUS - half + cutter, rel=1e-12)
+    assert radii(contours)['outer'] == pytest.approx(RADIUS + half - cutter, rel=1e-12)
+    assert lead_in == pytest.approx(half - cutter, rel=1e-12)
+    for fits in (half, half * (1 + 0.5 * GROOVE_FIT)):  # one pass on the pitch curve
+        contours, lead_in = cutter_contours(groove, fits, False, half)
+        assert list(contours) == ['pitch'] and lead_in == 0.0
+        assert radii(contours)['pitch'] == pytest.approx(RADIUS, rel=1e-12)
+    narrower = half * (1 - 1e-6)  # 5 nm narrower: two passes, 5 nm apart
+    contours, lead_in = cutter_contours(groove, narrower, False, half)
+    assert list(contours) == ['inner', 'outer'] and lead_in == pytest.approx(half - narrower)
+    with pytest.raises(InvalidParameter, match=r'^cutter_radius = .*is wider than the groove: '
+                                               r'at most half its width, 0\.005 m'):
+        cutter_contours(groove, half * (1 + 2 * GROOVE_FIT), False, half)
