@@ -4,15 +4,14 @@ from __future__ import annotations
 import csv
 import math
 import sys
-from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, Sequence
+from typing import Sequence
 
 import numpy as np
 
 from cam_ros.commands.common import (csv_column, dump_json, DYNAMICS_FIELDS, end_progress,
                                      format_table, load_design, number, output_path,
-                                     positive_quantity, progress, verdict, writing)
+                                     progress, verdict, writing)
 from cam_ros.commands.report_text import format_report, report_data
 from cam_ros.core import CamDesign, InvalidParameter, read_parameters_file
 from cam_ros.core.machine import is_machine
@@ -20,10 +19,6 @@ from cam_ros.core.report import design_report
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
 from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
 
-#: The table format written as motion functions (points with a function type each).
-MOTION_FUNCTIONS = 'twincat-functions'
-#: Points of `export --cam-table` without --points or --tolerance: one per degree.
-DEFAULT_TABLE_POINTS = 360
 #: The arrays of `cam_ros sample`, in output order: (name, CamState field, unit; {p} = m or rad).
 SAMPLE_FIELDS = (
     ('angle', 'angle', 'rad'),
@@ -207,6 +202,7 @@ def export(config: str, output: str, samples: int | None = None, cam_table: bool
         if table_format not in TABLE_FORMATS:
             raise InvalidParameter('--format', table_format, 'a cam table takes one of '
                                    + ', '.join(TABLE_FORMATS))
+        from cam_ros.commands.cam_table_export import export_cam_table
         from cam_ros.commands.machine_export import export_machine_tables
 
         if axis is None and is_machine(read_parameters_file(config)):
@@ -247,124 +243,3 @@ def export_switches(config: str, output: str, table_format: str) -> int:
     print(f'wrote {target}: {len(parameters["switches.names"])} cam switch tracks '
           f'({table_format})')
     return EXIT_OK
-
-
-def export_cam_table(config: str, output: str, points: int | None,
-                     tolerances: Sequence[str], table_format: str, interpolation: str | None,
-                     end_point: bool | None, derivatives: bool, axis: str | None = None) -> int:
-    """Write a cam table (master deg -> slave) of a config for a PLC or drive to import.
-
-    tolerances: none, one, or one per kind of unit (the one of the table's unit is taken).
-    """
-    from cam_ros.commands.machine_export import cam_tolerance
-    from cam_ros.output.cam_table_formats import (cam_table_text, check_options, size_note,
-                                                  table_rounding)
-    from cam_ros.core.rounding import ceil_sig
-    from cam_ros.core.config.quantity import split_quantity
-    from cam_ros.core.ecam.cam_table import CamTable, equidistant_table, tolerance_table
-
-    target = Path(output)
-    interpolation, with_derivatives = check_options(table_format, interpolation, derivatives)
-    if table_format == MOTION_FUNCTIONS:
-        _motion_function_options(points, end_point)
-    for text in tolerances:
-        split_quantity('--tolerance', text)  # a typo is refused before the config is read
-    design = load_design(config, axis)
-    tolerance = cam_tolerance(tolerances, design.config)
-    unit, factor = design.config.file_position_unit
-    limit = None if tolerance is None else positive_quantity(  # in the table's unit
-        '--tolerance', tolerance, design, angular=design.config.angular)
-    if table_format == MOTION_FUNCTIONS:
-        return _export_motion_function(design, config, target, tolerance, limit)
-
-    def place(allowed: float | None) -> CamTable:
-        return (tolerance_table(design.program, allowed, interpolation, unit=(unit, factor))
-                if allowed is not None else
-                equidistant_table(design.program, DEFAULT_TABLE_POINTS if points is None
-                                  else points, interpolation))
-
-    with _option_names(tolerance):
-        table = place(limit)
-        extra = table_rounding(table, design, table_format) / factor
-        if limit is not None and table.max_error + extra > limit:  # leave room for rounding
-            table = place(limit - 2.0 * extra)  # the new points round differently
-            extra = table_rounding(table, design, table_format) / factor
-            if table.max_error + extra > limit:
-                raise InvalidParameter('tolerance', limit, 'is too small for REAL (single '
-                                                           'precision) Master and Slave')
-    text = cam_table_text(table, design, table_format, Path(config).name,
-                          True if end_point is None else end_point, with_derivatives)
-    with writing('export', f'writing {target}', target):
-        target.write_text(text, encoding='utf-8')
-    within = '' if limit is None else \
-        f' within a tolerance of {ceil_sig(limit * factor)} {unit}'
-    worst = f'{ceil_sig((table.max_error + extra) * factor)} {unit}'
-    if interpolation in TABLE_FORMATS[table_format].unstated:
-        worst = (f'not stated by the {table_format} manual (under the {interpolation} '
-                 f'interpolation assumed: {worst})')
-    print(f'wrote {target}: cam table of {len(table.master_deg) - (end_point is False)} '
-          f'points ({table_format}, {interpolation} interpolation){within}, worst deviation '
-          f'{worst}')
-    note = size_note(table_format, len(table.master_deg) - (end_point is False))
-    if note:
-        print(f'note: {note}')
-    if not TABLE_FORMATS[table_format].comments:
-        print(f'note: the {table_format} file has no comment syntax: its characteristic values '
-              f'are those of `cam_ros export --format csv`')
-    return verdict('export', design)
-
-
-@contextmanager
-def _option_names(tolerance: str | None) -> Iterator[None]:
-    """Re-raise the core's InvalidParameter naming the option and its value as typed."""
-    try:
-        yield
-    except InvalidParameter as err:
-        value = tolerance if err.parameter == 'tolerance' else err.value
-        raise InvalidParameter(f'--{err.parameter}', value, err.rule) from err
-
-
-def _motion_function_options(points: int | None, end_point: bool | None) -> None:
-    """Refuse the options a motion function cannot take."""
-    if points is not None:
-        raise InvalidParameter('--points', points, f'--format {MOTION_FUNCTIONS} writes the '
-                                                   'segments\' own functions: give --tolerance '
-                                                   'for laws it lacks')
-    if end_point is False:
-        raise InvalidParameter('--end-point', False, f'--format {MOTION_FUNCTIONS} needs its '
-                                                     'end point: it ends the last segment')
-
-
-def _export_motion_function(design: CamDesign, config: str, target: Path,
-                            tolerance: str | None, limit: float | None) -> int:
-    """Write the design as Tc2_MC2_Camming motion-function points (IEC 61131-3 ST)."""
-    from cam_ros.core.ecam.motion_functions import motion_function
-    from cam_ros.output.cam_table_formats import check_target, periodic_note
-    from cam_ros.output.characteristics_text import characteristic_notes
-    from cam_ros.output.motion_function_text import (motion_function_text, segment_notes,
-                                                     UNUSED)
-    from cam_ros.core.rounding import ceil_sig
-
-    unit, factor = design.config.file_position_unit
-    check_target(MOTION_FUNCTIONS, design)
-    with _option_names(tolerance):
-        function = motion_function(design.program, limit, unit=(unit, factor))
-    count = len(function.angle)
-    notes = [f'motion function of {Path(config).name} from cam_ros: {count} points over master '
-             f'0-360 deg, {periodic_note(design, True)}',
-             'Tc2_MC2_Camming MC_MotionFunctionPoint: FunctionType is the function from this '
-             'point to the next; POLYNOM1 the line through the two positions, POLYNOM5 the '
-             'rest-to-rest quintic, POLYNOM5_MM the quintic through SlavePos, SlaveVelo and '
-             'SlaveAcc at both points (Beckhoff states no formula: this reading is the only '
-             'polynomial those values determine)',
-             'MasterPos in deg, SlavePos in ' + unit + ', SlaveVelo, SlaveAcc, SlaveJerk per '
-             'deg, deg^2, deg^3 of master (master velocity 1); RelIndexNextPoint 1 throughout',
-             'not used (no formula or parameters in Beckhoff\'s pages): ' + ', '.join(UNUSED),
-             *segment_notes(function, design), *characteristic_notes(design)]
-    text = motion_function_text(function, design, notes)
-    with writing('export', f'writing {target}', target):
-        target.write_text(text, encoding='utf-8')
-    pieced = f'{len(function.pieced)} of {len(design.program.segments)} segments as quintic ' \
-             f'pieces, worst deviation {ceil_sig(function.max_error * factor)} {unit}'
-    print(f'wrote {target}: motion function of {count} points ({MOTION_FUNCTIONS}), {pieced}')
-    return verdict('export', design)

@@ -1,11 +1,8 @@
-"""`cam_ros export --cam-table` by axis: each axis's --tolerance by the kind of its unit, and a
-machine file's tables, one per axis, into a folder.
+"""`cam_ros export MACHINE --cam-table`: a machine file's tables, one per axis, into a folder.
 
-`--tolerance` may be given once per kind of unit: a length (`10um`) for the axes in a length
-unit, an angle (`0.001deg`) for the rotary ones (deg) and the oscillating arms; a bare number is
-in each axis's own unit and then the only one. A machine axis whose kind has no tolerance is
-refused before anything is written, saying which to add. A table format that cannot take an
-axis (a slave that advances, for lenze, kollmorgen and rockwell) skips it: the others are
+Each axis takes the --tolerance of its kind of unit (cam_table_export); an axis whose kind has
+none is refused before anything is written, saying which to add. A table format that cannot take
+an axis (a slave that advances, for lenze, kollmorgen and rockwell) skips it: the others are
 written, each skipped axis is said in one line, and the exit code is 1.
 """
 from __future__ import annotations
@@ -13,77 +10,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Sequence
 
-from cam_ros.commands.common import say
-from cam_ros.core import CamConfig, InvalidParameter, read_parameters_file
-from cam_ros.core.config.quantity import split_quantity, TYPED_ANGLES
-from cam_ros.core.machine import parse_machine
+from cam_ros.commands.cam_table_export import (axis_tolerance, check_used, export_cam_table,
+                                               tolerance_kinds)
+from cam_ros.commands.common import positive_quantity, say, writing
+from cam_ros.core import InvalidParameter, read_parameters_file
+from cam_ros.core.machine import build_machine, parse_machine
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
-
-#: A tolerance of each kind, as a user would type it.
-EXAMPLES = {'length': '10um', 'angle': '0.001deg'}
-
-
-def tolerance_kinds(tolerances: Sequence[str]) -> dict[str, str]:
-    """Return each --tolerance by its kind: 'length', 'angle', or 'bare' (each axis's unit).
-
-    One per kind; a bare number only alone (it would fit every axis).
-    """
-    kinds: dict[str, str] = {}
-    for text in tolerances:
-        _, unit = split_quantity('--tolerance', text)
-        kind = 'angle' if unit in TYPED_ANGLES else 'length' if unit else 'bare'
-        if kind in kinds:
-            raise InvalidParameter('--tolerance', text, f'is a second {kind} tolerance (after '
-                                   f'{kinds[kind]!r}): give one per kind of unit, a length and '
-                                   'an angle')
-        kinds[kind] = text
-    if 'bare' in kinds and len(kinds) > 1:
-        raise InvalidParameter('--tolerance', kinds['bare'], 'needs its unit (e.g. 10um or '
-                               '0.001deg) when --tolerance is given more than once')
-    return kinds
-
-
-def kind_of(config: CamConfig) -> str:
-    """Return the kind of unit a design's table is in: 'angle' or 'length'."""
-    return 'angle' if config.angular else 'length'
-
-
-def axis_tolerance(kinds: dict[str, str], config: CamConfig, name: str) -> str | None:
-    """Return the --tolerance a design (called name in errors) takes; None if none is given.
-
-    Raises naming the kind to add when tolerances are given but none of its kind.
-    """
-    if not kinds or 'bare' in kinds:
-        return kinds.get('bare')
-    kind = kind_of(config)
-    if kind in kinds:
-        return kinds[kind]
-    (given,) = kinds.values()
-    unit = config.file_position_unit[0]
-    raise InvalidParameter('--tolerance', given, f'gives no {kind} tolerance for {name} (in '
-                           f'{unit}): add --tolerance {EXAMPLES[kind]} or the like (one per '
-                           'kind of unit)')
-
-
-def check_used(kinds: dict[str, str], configs: Sequence[CamConfig]) -> None:
-    """Refuse a --tolerance of a kind none of the designs (a machine's axes, or one cam) takes."""
-    used = {kind_of(config) for config in configs}
-    for kind, text in kinds.items():
-        if kind != 'bare' and kind not in used:
-            where = (f'this cam is in {configs[0].file_position_unit[0]}' if len(configs) == 1
-                     else f'no axis of this machine is in {"an" if kind == "angle" else "a"} '
-                          f'{kind} unit')
-            raise InvalidParameter('--tolerance', text, f'is {"an" if kind == "angle" else "a"} '
-                                   f'{kind} tolerance, but {where}')
-
-
-def cam_tolerance(tolerances: Sequence[str], config: CamConfig) -> str | None:
-    """Return the --tolerance a single cam takes: the one given, or the one of its kind."""
-    if len(tolerances) <= 1:
-        return tolerances[0] if tolerances else None  # its unit checked with the design
-    kinds = tolerance_kinds(tolerances)
-    check_used(kinds, [config])
-    return axis_tolerance(kinds, config, 'this cam')
+from cam_ros.output.cam_table_formats import check_target, FORMATS
 
 
 def export_machine_tables(config: str, output: str, points: int | None,
@@ -94,11 +27,6 @@ def export_machine_tables(config: str, output: str, points: int | None,
 
     Every axis the format can take; 1 when any was skipped (said on stderr) or fails.
     """
-    from cam_ros.commands.common import positive_quantity, writing
-    from cam_ros.commands.design import export_cam_table
-    from cam_ros.core.machine import build_machine
-    from cam_ros.output.cam_table_formats import check_target, FORMATS
-
     folder = Path(output)
     if folder.exists() and not folder.is_dir():
         raise InvalidParameter('-o', output, 'must be a folder for a machine file\'s tables '
