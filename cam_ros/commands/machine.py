@@ -16,6 +16,7 @@ import numpy as np
 from cam_ros.commands.common import (csv_column, dump_json, end_progress, format_table,
                                      number, output_path, progress, say, writing)
 from cam_ros.commands.report_text import format_report, report_data
+from cam_ros.commands.slave_limits_text import slave_limits_lines
 from cam_ros.core import InvalidParameter, parse_parameters, read_parameters_file
 from cam_ros.core.cam_angles import cam_degrees
 from cam_ros.core.machine import (build_machine, check_interference, is_machine, Machine,
@@ -131,7 +132,10 @@ def _report_text(machine: Machine, reports: tuple, checks: tuple[PairCheck, ...]
     for axis, axis_report in zip(machine.axes, reports):
         heading = f'Axis {axis.name}'
         lines += ['', heading, '=' * len(heading),
-                  format_report(axis_report, f'{config}, axis {axis.name}')]
+                  format_report(axis_report, f'{config}, axis {axis.name}', axis=None)]
+    lines += slave_limits_lines([(axis.name, axis.design.config.position_unit,
+                                  axis_report.slave_limits)
+                                 for axis, axis_report in zip(machine.axes, reports)])
     lines += ['', f'Interference (lengths in {machine.config.length_unit}, machine angles)']
     unit = machine.config.length_unit
     lines += [f'  {pair_line(check, unit)}' for check in checks] or ['  no pairs checked']

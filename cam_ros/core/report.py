@@ -16,6 +16,7 @@ import numpy as np
 from .design import CamDesign
 from .extremes import CHECK_SAMPLES
 from .dynamics.report import DynamicsReport
+from .ecam.axis_limits import axis_limits, AxisLimits
 from .geometry.followers import TranslatingRoller
 from .geometry.joint_sizing import SmallestCam, smallest_cam
 from .motion.program import Discontinuity
@@ -77,6 +78,7 @@ class DesignReport:
     pressure_angle_return: tuple[float, float] = (math.nan, math.nan)
     smallest_cam: Optional[SmallestCam] = None
     max_roller_radius: Optional[float] = None
+    slave_limits: Optional[AxisLimits] = None  # None: no slave.* limit or direction set
 
     @property
     def ok(self) -> bool:
@@ -111,7 +113,8 @@ def design_report(design: CamDesign) -> DesignReport:
                             max_base_radius=None, max_base_radius_governing='', face_range=None,
                             segments=design.program.segment_summary(),
                             continuity=design.program.continuity_report(), quick_estimate=None,
-                            warnings=tuple(design.warnings()))
+                            warnings=tuple(design.warnings()),
+                            slave_limits=axis_limits(design.config, design.electronic_cam))
     theta = np.linspace(0.0, 2.0 * math.pi, CHECK_SAMPLES, endpoint=False)
     motion = design.surface.evaluate(theta)  # the cam's own motion (polydyne: compensated)
     check = design.check
@@ -147,6 +150,7 @@ def design_report(design: CamDesign) -> DesignReport:
         pressure_angle_return=check.pressure_angle_return,
         smallest_cam=_smallest_cam(design),
         max_roller_radius=max_roller_radius(design),
+        slave_limits=axis_limits(design.config, design.electronic_cam),
     )
 
 
