@@ -35,6 +35,11 @@ STEEP = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * DEG, 0.0, 0.0),
                        Segment(make_law('cycloidal'), 90 * DEG, 120 * DEG, 0.0, RISE),
                        Segment(make_law('dwell'), 120 * DEG, 240 * DEG, RISE, RISE),
                        Segment(make_law('simple_harmonic'), 240 * DEG, 2 * math.pi, RISE, 0.0)))
+#: The seed's laws with the rise first: the extremes of its flanks lie before 1 rad.
+EARLY = MotionProgram((Segment(make_law('cycloidal'), 0.0, 90 * DEG, 0.0, RISE),
+                       Segment(make_law('dwell'), 90 * DEG, 150 * DEG, RISE, RISE),
+                       Segment(make_law('simple_harmonic'), 150 * DEG, 270 * DEG, RISE, 0.0),
+                       Segment(make_law('dwell'), 270 * DEG, 2 * math.pi, 0.0, 0.0)))
 YOKE = MotionProgram((Segment(make_law('simple_harmonic'), 0.0, math.pi, 0.0, RISE),
                       Segment(make_law('simple_harmonic'), math.pi, 2 * math.pi, RISE, 0.0)))
 ROTATIONS = {'ccw': False, 'cw': True}
@@ -55,13 +60,20 @@ def pitch_radius(theta, motion, base, roller, offset, sigma):
         along ** 2 + across * (2 * v - sigma * offset) - a * along)
 
 
+CAMS = {'seed': (15 * MM, SEED), 'rise first': (15 * MM, EARLY),
+        'pitch radii over 1 m': (1500 * MM, SEED)}
+
+
 @pytest.mark.parametrize('clearance', [0.0, 1 * MM])
-def test_flank_radii_are_the_pitch_radius_less_the_half_width(clearance, clockwise):
-    follower = TranslatingRoller(15 * MM, 8 * MM, 4 * MM)
-    flanks = groove_flanks(follower, SEED, clockwise, clearance)
-    rho = pitch_radius(DENSE, SEED, 15 * MM, 8 * MM, 4 * MM, -1 if clockwise else 1)
+@pytest.mark.parametrize('cam', CAMS)
+def test_flank_radii_are_the_pitch_radius_less_the_half_width(cam, clearance, clockwise):
+    base, program = CAMS[cam]
+    follower = TranslatingRoller(base, 8 * MM, 4 * MM)
+    flanks = groove_flanks(follower, program, clockwise, clearance)
+    rho = pitch_radius(DENSE, program, base, 8 * MM, 4 * MM, -1 if clockwise else 1)
     half = 8 * MM + clearance / 2
-    convex, concave = rho[rho > 0].min(), -rho[rho < 0].max()
+    convex = rho[rho > 0].min()
+    concave = -rho[rho < 0].max() if (rho < 0).any() else math.inf  # inf: no concave part
     assert flanks['inner'].radius_of_curvature_min == pytest.approx(convex - half, rel=1e-9)
     assert flanks['outer'].radius_of_curvature_min == pytest.approx(concave - half, rel=1e-9)
     assert flanks['inner'].radius_of_curvature_min <= convex - half  # refined: never above
@@ -93,6 +105,16 @@ def test_groove_flanks_are_offsets_of_the_pitch_curve(clockwise):
     assert np.hypot(*(outer - inner)) == pytest.approx(2 * 9 * MM, rel=1e-12)
     assert inner_normal == pytest.approx(-outer_normal)  # both into the groove
     assert np.sum((outer - inner) * inner_normal, axis=0) == pytest.approx(18 * MM, rel=1e-12)
+
+
+def test_a_groove_about_a_convex_pitch_curve_has_no_convex_outer_flank():
+    flanks = groove_flanks(TranslatingRoller(30 * MM, 8 * MM, 0.0), YOKE, False, 1 * MM)
+    rho = pitch_radius(DENSE, YOKE, 30 * MM, 8 * MM, 0.0, 1)
+    assert (rho > 0).all()  # a convex pitch curve: the outer flank bends away everywhere
+    assert flanks['inner'].radius_of_curvature_min == pytest.approx(rho.min() - 8.5 * MM,
+                                                                    rel=1e-9)
+    assert flanks['outer'].radius_of_curvature_min == math.inf
+    assert not flanks['outer'].undercut
 
 
 def test_the_flanks_of_a_circle_are_circles():
