@@ -114,6 +114,25 @@ def rss_kib(pid: int) -> int:
     raise AssertionError(f'no VmRSS for process {pid}')
 
 
+def callback_thread_cpu_s(pid: int) -> dict[int, float]:
+    """
+    Return the CPU time (s) of each thread of a process that runs Python on its own.
+
+    Its threads but the main one (the executor's) and Fast DDS's (named dds.*): in cam_node,
+    the OwnThread of each service and subscription, which take, handle and answer there.
+    """
+    times = {}
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            name = (task / 'comm').read_text().strip()
+            fields = (task / 'stat').read_text().rpartition(')')[2].split()
+        except FileNotFoundError:  # the thread ended meanwhile
+            continue
+        if int(task.name) != pid and not name.startswith('dds.'):
+            times[int(task.name)] = (int(fields[11]) + int(fields[12])) / os.sysconf('SC_CLK_TCK')
+    return times
+
+
 def percentiles(samples: Sequence[float], points: Sequence[float]) -> dict[str, float]:
     """Return the named percentiles (nearest rank) of samples, in ms."""
     ordered = sorted(samples)

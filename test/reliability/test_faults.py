@@ -8,8 +8,9 @@ from __future__ import annotations
 import signal
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
+import numpy as np
 import yaml
 from cam_ros_interfaces.srv import EvaluateCam
 from conftest import matched_client
@@ -22,9 +23,9 @@ from std_srvs.srv import SetBool
 from cam_ros.recording import open_recording
 from cam_ros.recording.writer import DEFAULT_CHUNK_SIZE
 
-from .support import (assert_serves, CALL_TIMEOUT_S, Child, DEFAULT, design_with, evaluate,
-                      percentiles, SAMPLE_ANGLES, start_limited_node, timed_evaluate, wait_until,
-                      wire_stamp_ns, Witness)
+from .support import (assert_serves, CALL_TIMEOUT_S, callback_thread_cpu_s, Child, DEFAULT,
+                      design_with, evaluate, percentiles, SAMPLE_ANGLES, start_limited_node,
+                      timed_evaluate, wait_until, wire_stamp_ns, Witness)
 
 STATE_TOPICS = {'/cam/joint_states': JointState, '/cam/state_extras': Vector3Stamped}
 #: Bytes of an MCAP message record around its data: opcode, length, channel id, sequence, log
@@ -44,18 +45,24 @@ CLEAN_RUN_S = 0.5
 FILE_SIZE_LIMIT = 300_000  # bytes: the recording runs into it after about a second at 1000 Hz
 FULL_DISK_RATE_HZ = 1000.0
 FULL_DISK_TIMEOUT_S = 20.0
-#: Angles of a vanishing client's request (40 MB): its answer takes several times VANISH_AFTER_S
-#: (1,000,000 took 0.16 s here on 2026-11-27, under VANISH_AFTER_S: no longer abandoned in time)
-BIG_BATCH = 5_000_000
-VANISH_AFTER_S = 0.3  # the request is in, its answer not out yet
-#: A call queued behind an abandoned big request waits about a second; this long means stalled.
+#: Angles of a vanishing client's request (16 MB): answering it costs the node a few tenths of
+#: a second of CPU, so the client is killed while the node works on it.
+BIG_BATCH = 2_000_000
+#: The evidence that a big request reached the node: one of its service threads has spent this
+#: share of the CPU time the core takes for the same angles in this process (same machine, same
+#: run). Fast DDS's own threads receive the request's fragments; the service thread does
+#: nothing until the request is whole, then unpacks it, evaluates and packs a 96 MB answer.
+BUSY_SHARE = 0.5
+#: The request's fragments can take many seconds to cross a loaded machine.
+REQUEST_IN_TIMEOUT_S = 60.0
+#: A call queued behind an abandoned big request is answered once the node is done with it;
+#: this long means stalled.
 STALL_TIMEOUT_S = 20.0
-BUSY_EVIDENCE_S = 0.1  # ... waits at least this long when the big request was being evaluated
-#: Small requests once the node is idle again: round trips (s) of the median and of every call.
-#: The first call after the last abandoned answer takes up to about 0.4 s here (seen 0.21-0.39 s
-#: in most runs), so the limit on every call is 1 s; a stalled node would take STALL_TIMEOUT_S.
-IDLE_MEDIAN_LIMIT_S = 0.02
-IDLE_LATENCY_LIMIT_S = 1.0
+#: Small requests once the node is idle again: their median round trip must stay within this
+#: factor of the median before the faults, in the same run. A machine's load moves both alike
+#: (sub-millisecond medians here vary 2-fold); a service thread blocked on its abandoned
+#: answers (a reliable writer waits 100 ms and more for room) fails it.
+LATENCY_RATIO = 10.0
 LATENCY_PROBES = 20
 LAZY_RATE_HZ = 500.0
 #: Share of its state rate with no stalled subscriber (same run) that the node must keep while
@@ -272,11 +279,27 @@ def test_full_disk_stops_the_recording_not_the_node(ros_domain, executor, tmp_pa
             process.process.wait()
 
 
+def big_request_taken(pid: int, core_cpu_s: float) -> Callable[[], bool]:
+    """
+    Return a predicate: has the node (pid) taken a big request since now?
+
+    Evidence from the node itself, whatever the machine's load: CPU time, not wall time, spent
+    by a thread that works only on requests (callback_thread_cpu_s) reaches BUSY_SHARE of
+    core_cpu_s, the core's cost of the request's angles.
+    """
+    before = callback_thread_cpu_s(pid)
+    return lambda: max(spent - before.get(thread, 0.0) for thread, spent
+                       in callback_thread_cpu_s(pid).items()) >= BUSY_SHARE * core_cpu_s
+
+
 def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
         start_cam_node, executor, tmp_path, effort, report):
     process, client = start_cam_node(DEFAULT, '-p', f'output.state_rate_hz:={LAZY_RATE_HZ}',
                                      '-p', f'output.max_batch:={BIG_BATCH}')
     design = design_with(**{'output.state_rate_hz': LAZY_RATE_HZ})
+    cpu_before = time.thread_time()
+    design.evaluate(np.linspace(0.0, 2.0 * np.pi, BIG_BATCH, endpoint=False))
+    core_cpu_s = time.thread_time() - cpu_before  # what one big request costs, in this run
     baseline = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
     # The state rate this machine sees with no stalled subscriber: the floor for the one with.
     alone = witnessed_rate(executor, effort.stall_s)
@@ -289,9 +312,11 @@ def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
     try:
         assert all(child.read() == {'ready': True} for child in children)
         for child in vanishing:
+            taken = big_request_taken(process.process.pid, core_cpu_s)
             child.tell('go')
             assert child.read() == {'sent': True}
-            time.sleep(VANISH_AFTER_S)
+            # Killed once the node works on its request (its answer not out yet).
+            wait_until(taken, REQUEST_IN_TIMEOUT_S, 'the node to take the big request')
             child.kill()
             # Queued behind the abandoned request, then answered as usual.
             start = time.perf_counter()
@@ -303,24 +328,22 @@ def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
                 # one. That is the middleware's stall, not the node's: a new client is answered.
                 stalled += 1
                 client = matched_client(spares, process)
-                assert timed_evaluate(client, SAMPLE_ANGLES) <= IDLE_LATENCY_LIMIT_S
+                assert_serves(evaluate(client, SAMPLE_ANGLES), design)
             else:
                 queued.append(time.perf_counter() - start)
                 assert_serves(response, design)
         assert stalled <= len(vanishing) // 2, f'{stalled} of {len(vanishing)} calls stalled'
         after = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
-        assert sorted(after)[LATENCY_PROBES // 2] <= IDLE_MEDIAN_LIMIT_S, after
-        assert max(after) <= IDLE_LATENCY_LIMIT_S, after
+        assert np.median(after) <= LATENCY_RATIO * np.median(baseline), (after, baseline)
         rate = witnessed_rate(executor, effort.stall_s)
         assert rate >= MIN_RATE_FRACTION * alone, (rate, alone)
         assert process.process.poll() is None and lazy.process.poll() is None
     finally:
         for child in children:
             child.kill()
-    # The big requests did reach the node: a small call waited behind at least one of them.
-    assert max(queued) >= BUSY_EVIDENCE_S, queued
     assert process.stop(signal.SIGINT) == 0
-    report('clients killed mid-call (1e6-angle requests)', effort.vanishing_clients)
+    report('clients killed mid-call (2e6-angle requests)', effort.vanishing_clients)
+    report('CPU of one big request in the test process, s', f'{core_cpu_s:.2f}')
     report('small call queued behind an abandoned request, s',
            ', '.join(f'{t:.2f}' for t in queued))
     report('clients left waiting behind an abandoned answer (rmw_fastrtps#559)', stalled)
