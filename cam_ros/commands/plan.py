@@ -156,7 +156,7 @@ def axis_lines(machine: Machine, name: str, entry: Mapping[str, Any]) -> list[st
         figures = entry['peaks'][peak]
         limit = getattr(limits, field)
         against = (f'limit {unit.say(limit, per)}: {"ok" if figures["ok"] else "EXCEEDS"}'
-                   if limit else 'no limit (bounded by its cam\'s own peak at cam_speed)')
+                   if limit else 'no limit (off its cam within the cam\'s own peaks at cam_speed)')
         lines.append(f'  {peak:<12}  peak {unit.say(figures["value"], per)}, {against}')
     if 'direction' in entry['peaks']:
         figures = entry['peaks']['direction']

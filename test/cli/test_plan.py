@@ -34,8 +34,8 @@ def test_the_knife_and_the_jaw_are_ordered_and_every_figure_is_printed(capsys):
             f'{jaw.delay:.6g} s, moves {jaw.duration - jaw.delay:.6g} s (on its cam '
             f'{jaw.duration:.6g} s after the start)') in lines
     assert (f'  velocity      peak {knife.peaks.velocity:.6g} rad/s '
-            f'({math.degrees(knife.peaks.velocity):.6g} deg/s), no limit (bounded by its cam\'s '
-            'own peak at cam_speed)') in lines
+            f'({math.degrees(knife.peaks.velocity):.6g} deg/s), no limit (off its cam within the '
+            'cam\'s own peaks at cam_speed)') in lines
     assert lines.count('Order: knife, then jaw, each waiting at its start until the one before '
                        'is on its cam (together they would collide)') == 1
     assert f'  {found.checks[1].line("mm")}' in lines
