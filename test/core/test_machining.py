@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from cam_ros.core.errors import InvalidParameter
+from cam_ros.core.geometry import machining
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
 from cam_ros.core.geometry.machining import (cam_contour, check_cutter, cutter_contours,
@@ -202,3 +203,37 @@ def test_cutter_contours_and_lead_in_of_a_cam_and_of_a_groove():
     with pytest.raises(InvalidParameter, match=r'^cutter_radius = .*is wider than the groove: '
                                                r'at most half its width, 0\.005 m'):
         cutter_contours(groove, half * (1 + 2 * GROOVE_FIT), False, half)
+
+
+def chord_distances(contour, path, per_chord=4000):
+    """Return the largest distance of the exact contour from each chord of a path (brute force)."""
+    ends = np.append(path.theta[1:], path.theta[0] + 2 * math.pi)
+    share = np.linspace(0.0, 1.0, per_chord)
+    angles = path.theta[:, np.newaxis] + (ends - path.theta)[:, np.newaxis] * share
+    exact = contour.evaluate(angles.reshape(-1))[0].reshape(2, *angles.shape)
+    start, end = path.points.T[:, :, np.newaxis], np.roll(path.points, -1, axis=0).T
+    chord = end[:, :, np.newaxis] - start
+    along = np.clip(((exact - start) * chord).sum(axis=0) / (chord ** 2).sum(axis=0), 0.0, 1.0)
+    return np.hypot(*(exact - start - along * chord)).max(axis=1)
+
+
+def test_a_chord_found_beyond_the_tolerance_after_refinement_is_split(monkeypatch):
+    """With chords placed up to 1.2 x the tolerance, only the refined check keeps the promise:
+    it halves the worst chord until the true worst deviation is within the tolerance."""
+    monkeypatch.setattr(machining, 'PLACEMENT_MARGIN', 1.2)
+    halved = []
+
+    def split(knots, chords, pieces):
+        halved.extend(chords for piece in pieces if len(pieces) == 1 and piece == 2)
+        return unsplit(knots, chords, pieces)
+    unsplit = machining._split
+    monkeypatch.setattr(machining, '_split', split)
+    contour = cam_contour(TranslatingRoller(30 * MM, 10 * MM, 5 * MM), SEED, False)
+    tolerance = 1e-2 * MM
+    path = place_points(contour, tolerance)
+    assert halved  # the refined check found chords beyond the tolerance and split them
+    worst = chord_distances(contour, path)
+    assert worst.max() <= path.worst_deviation <= tolerance
+    assert path.worst_deviation == pytest.approx(worst.max(), rel=1e-6)
+    chord = np.searchsorted(path.theta, path.worst_at, side='right') - 1
+    assert worst[chord] == pytest.approx(worst.max(), rel=1e-6)
