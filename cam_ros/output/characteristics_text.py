@@ -3,7 +3,9 @@
 One line per segment: the smallest and largest slave position, velocity, acceleration and jerk
 per master degree (master velocity 1) and the master angle (deg) of each, from
 core.ecam.characteristics.  A largest value is rounded up and a smallest one down (6
-significant digits), so the printed range always holds the true one.
+significant digits), so the printed range always holds the true one; a quantity the law holds
+constant over the segment is printed once, as the law gives it (6 significant digits). Angles
+are printed to 1e-9 deg: a flat extreme found 1e-11 deg from 0 is at 0.
 """
 from __future__ import annotations
 
@@ -11,15 +13,9 @@ import math
 
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.characteristics import characteristics, QUANTITIES
-from cam_ros.core.rounding import ceil_sig
+from cam_ros.core.rounding import ceil_sig, floor_sig
 
 DEGREE = math.pi / 180.0
-
-
-def floor_sig(value: float) -> str:
-    """Return value rounded down (toward -inf) to 6 significant digits, without exponent."""
-    text = ceil_sig(-value)
-    return text[1:] if text.startswith('-') else '0.0' if text in ('0.0', '0') else '-' + text
 
 
 def characteristic_notes(design: CamDesign) -> list[str]:
@@ -35,6 +31,9 @@ def characteristic_notes(design: CamDesign) -> list[str]:
         for order, (name, low, high) in enumerate(zip(QUANTITIES, segment.minimum,
                                                       segment.maximum)):
             scale = factor * DEGREE ** order
+            if low.value == high.value:  # constant on the segment: the law's one value
+                parts.append(f'{name} {low.value * scale + 0.0:.6g} {units[order]} (constant)')
+                continue
             parts.append(f'{name} {floor_sig(low.value * scale)} @ {_deg(low.angle)} .. '
                          f'{ceil_sig(high.value * scale)} @ {_deg(high.angle)} {units[order]}')
         notes.append(f'segment {segment.number} {segment.law} {_deg(segment.start)}-'
@@ -43,4 +42,5 @@ def characteristic_notes(design: CamDesign) -> list[str]:
 
 
 def _deg(angle: float) -> str:
-    return f'{math.degrees(angle):.10g}'
+    """Return a master angle (rad) in deg to 1e-9 deg, 10 significant digits at most."""
+    return f'{round(math.degrees(angle), 9) + 0.0:.10g}'
