@@ -43,7 +43,12 @@ def _folder(module: str) -> str:
 
 
 def _private_imports(text: str, module: str) -> list[str]:
-    """Return 'module.name' for every private name text imports from outside its own folder."""
+    """Return 'module.name' for every private name text imports from another module.
+
+    A private name (`_name`) stays in its module: what modules share is public. A private
+    module (`motion/_law_base.py`) is its package's: its own folder may import it (its public
+    names), nothing outside may.
+    """
     package = _folder(module)
     found = []
     for node in ast.walk(ast.parse(text)):
@@ -61,7 +66,9 @@ def _private_imports(text: str, module: str) -> list[str]:
             pieces = name.split('.')
             private = [i for i, piece in enumerate(pieces)
                        if piece.startswith('_') and not piece.startswith('__')]
-            if name.startswith(RCLPY_INTERNALS) or (
+            imported_name = isinstance(node, ast.ImportFrom) and private[-1:] == [
+                len(pieces) - 1] and '.'.join(pieces[:-1]) != module
+            if name.startswith(RCLPY_INTERNALS) or imported_name or (
                     private and _folder('.'.join(pieces[:private[0]])) != package):
                 found.append(name)
     return found
@@ -72,7 +79,7 @@ def _module(path: Path) -> str:
     return '.'.join(parts[:-1] if parts[-1] == '__init__' else parts)
 
 
-def test_no_file_imports_a_private_name_of_another_package():
+def test_no_file_imports_a_private_name_of_another_module():
     offenders = {_module(path): names for path in sorted(PACKAGE.rglob('*.py'))
                  if path != RCLPY_GAPS and (names := _private_imports(path.read_text(),
                                                                       _module(path)))}
@@ -84,9 +91,16 @@ def test_the_private_name_check_sees_rclpy_internals_and_foreign_private_names()
             'from rclpy.impl.implementation_singleton import rclpy_implementation\n'
             'from cam_ros.recording.intake import _Hidden\n'
             'from ..core.motion._law_base import MotionLaw\n'
-            'from .parameters import _own_folder\n')
+            'from .parameters import _own_folder\n'
+            'from .parameters import shared\n'
+            'from cam_ros.node import _package_private\n')
     assert _private_imports(text, 'cam_ros.node.node') == [
         'rclpy._rclpy_pybind11.RCLError',
         'rclpy.impl.implementation_singleton.rclpy_implementation',
         'cam_ros.recording.intake._Hidden',
-        'cam_ros.core.motion._law_base.MotionLaw']
+        'cam_ros.core.motion._law_base.MotionLaw',
+        'cam_ros.node.parameters._own_folder',
+        'cam_ros.node._package_private']
+    # A package's own private module, by its public names: allowed inside the package only.
+    assert _private_imports('from ._law_base import MotionLaw\n',
+                            'cam_ros.core.motion.laws') == []

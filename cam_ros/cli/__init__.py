@@ -16,11 +16,11 @@ import sys
 from importlib.metadata import PackageNotFoundError, version
 from typing import Callable, Sequence
 
-from cam_ros.cli.arguments import (_Parser, ANY_FAILED, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED,
+from cam_ros.cli.arguments import (Parser, ANY_FAILED, EXIT_BROKEN_PIPE, EXIT_INTERRUPTED,
                                    exit_codes, UsageError)
-from cam_ros.cli.design import _design_commands
-from cam_ros.cli.ros import (_lifecycle_command, _node_commands, _recording_commands,
-                             _ros_commands)
+from cam_ros.cli.design import design_commands
+from cam_ros.cli.ros import (lifecycle_command, node_commands, recording_commands,
+                             ros_commands)
 from cam_ros.core import CamError
 from cam_ros.core.errors import one_line
 from cam_ros.exit_codes import EXIT_INVALID
@@ -32,17 +32,17 @@ def build_parser() -> argparse.ArgumentParser:
         release = version('cam_ros')
     except PackageNotFoundError:
         release = 'unknown'
-    parser = _Parser(prog='cam_ros', description='Design, inspect and serve disk cams.',
-                     epilog=exit_codes(ANY_FAILED, '130 interrupted by Ctrl-C (echo, replay: '
-                                                   'exit 0)'),
-                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = Parser(prog='cam_ros', description='Design, inspect and serve disk cams.',
+                    epilog=exit_codes(ANY_FAILED, '130 interrupted by Ctrl-C (echo, replay: '
+                                                  'exit 0)'),
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--version', action='version', version=f'cam_ros {release}')
     sub = parser.add_subparsers(dest='command', metavar='COMMAND', required=True)
-    _design_commands(sub)
-    _ros_commands(sub)
-    _node_commands(sub)
-    _lifecycle_command(sub)
-    _recording_commands(sub)
+    design_commands(sub)
+    ros_commands(sub)
+    node_commands(sub)
+    lifecycle_command(sub)
+    recording_commands(sub)
     return parser
 
 

@@ -48,7 +48,7 @@ class UsageError(Exception):
         self.message = message
 
 
-class _Parser(argparse.ArgumentParser):
+class Parser(argparse.ArgumentParser):
     """ArgumentParser that raises UsageError instead of printing usage and exiting.
 
     A negative number in exponent form (--tolerance -1e-6) is a value, not an option.
@@ -86,8 +86,8 @@ SAMPLES = _number(int, 'an integer >= 3', lambda x: x >= 3)
 POINTS = _number(int, 'an integer >= 2', lambda x: x >= 2)
 
 
-def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
-             description: str, epilog: str) -> argparse.ArgumentParser:
+def add_command(sub: argparse._SubParsersAction, name: str, target: str, summary: str,
+                description: str, epilog: str) -> argparse.ArgumentParser:
     """Add a subcommand whose handler is the function target ('module:function')."""
     parser = sub.add_parser(name, help=summary, epilog=epilog,
                             description=textwrap.fill(f'{summary}. {description}', HELP_WIDTH),
@@ -96,7 +96,7 @@ def _command(sub: argparse._SubParsersAction, name: str, target: str, summary: s
     return parser
 
 
-def _axis_option(parser: argparse.ArgumentParser) -> None:
+def axis_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--axis', default=None, metavar='NAME',
                         help='a machine file (with axes): take this axis alone, as a single '
                              'cam over its own cam angle')

@@ -3,34 +3,34 @@ from __future__ import annotations
 
 import argparse
 
-from cam_ros.cli.arguments import (_axis_option, _command, exit_codes, FINITE, LIMITS_FAILED,
+from cam_ros.cli.arguments import (axis_option, add_command, exit_codes, FINITE, LIMITS_FAILED,
                                    POINTS, SAMPLES, STEP_DEG)
 from cam_ros.core.ecam.cam_table import INTERPOLATIONS
 from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS
 from cam_ros.output.gcode import MACHINING_FORMATS
 
 
-def _design_commands(sub: argparse._SubParsersAction) -> None:
+def design_commands(sub: argparse._SubParsersAction) -> None:
     config_help = ('cam config: a ROS 2 parameters file (e.g. config/default.yaml), or a '
                    'machine file (with axes, e.g. config/machine.yaml)')
-    parser = _command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
-                      'Pressure angle, radius of curvature, undercut, smallest base radius, '
-                      'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
-                      'discontinuities. SI units, angles in degrees. A machine file: each '
-                      'axis\'s report and each interference pair (smallest gap or margin, '
-                      'rounded down).', exit_codes(LIMITS_FAILED))
+    parser = add_command(sub, 'report', 'cam_ros.commands.design:report', 'Report on a cam design',
+                         'Pressure angle, radius of curvature, undercut, smallest base radius, '
+                         'face width, per-segment Cv/Ca/Cj and peaks at the cam speed, '
+                         'discontinuities. SI units, angles in degrees. A machine file: each '
+                         'axis\'s report and each interference pair (smallest gap or margin, '
+                         'rounded down).', exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--json', dest='json_output', action='store_true',
                         help='print one JSON object instead of text')
-    _axis_option(parser)
+    axis_option(parser)
 
-    parser = _command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
-                      'Arrays over one revolution from 0: angle (rad), position, velocity, '
-                      'acceleration, jerk (SI), their derivatives per rad of cam angle, '
-                      'pressure angle (rad) and radius of curvature (m). A machine file: '
-                      'each axis\'s position, velocity, acceleration, jerk as commanded at '
-                      'cam_speed over the machine angle.',
-                      exit_codes(LIMITS_FAILED))
+    parser = add_command(sub, 'sample', 'cam_ros.commands.design:sample', 'Sample a cam design',
+                         'Arrays over one revolution from 0: angle (rad), position, velocity, '
+                         'acceleration, jerk (SI), their derivatives per rad of cam angle, '
+                         'pressure angle (rad) and radius of curvature (m). A machine file: '
+                         'each axis\'s position, velocity, acceleration, jerk as commanded at '
+                         'cam_speed over the machine angle.',
+                         exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--step-deg', type=STEP_DEG, default=1.0, metavar='D',
                         help='cam angle step in degrees (default 1)')
@@ -39,12 +39,12 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                       help='print one JSON object of arrays (with units)')
     form.add_argument('--csv', dest='csv_output', action='store_true',
                       help='print CSV with units in the header')
-    _axis_option(parser)
+    axis_option(parser)
 
-    parser = _command(sub, 'plot', 'cam_ros.commands.design:plot', 'Plot a cam design',
-                      'S-V-A-J diagrams over cam angle and a drawing of the cam (surface, '
-                      'pitch curve, base circle) with the follower at the chosen angle.',
-                      exit_codes(LIMITS_FAILED))
+    parser = add_command(sub, 'plot', 'cam_ros.commands.design:plot', 'Plot a cam design',
+                         'S-V-A-J diagrams over cam angle and a drawing of the cam (surface, '
+                         'pitch curve, base circle) with the follower at the chosen angle.',
+                         exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
                         help='image to write: .png or .svg')
@@ -54,25 +54,28 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='draw the follower train instead: residual-vibration spectrum of '
                              'each moving segment\'s law over r = 0.5..10 with this design\'s '
                              'operating points, and the periodic output against s')
-    _axis_option(parser)
+    axis_option(parser)
     parser.add_argument('--timing-diagram', action='store_true',
                         help='a machine file: every axis over one machine cycle (each in its '
                              'own unit), the switch tracks, every collision or too small a '
                              'margin shaded')
 
-    parser = _command(sub, 'export', 'cam_ros.commands.design:export',
-                      'Export the cam surface for manufacturing, a cutter path, or a cam table '
-                      'for a PLC',
-                      'The surface: one closed curve in mm in the cam frame (cam centre at the '
-                      'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or SVG '
-                      '(closed path); a groove cam: both flanks, a conjugate pair: both cams, '
-                      'each its own curve. With --machining: the cutter-location path (the '
-                      'surface offset by the cutter radius) or the nominal contour, points placed '
-                      'by a '
-                      'chordal tolerance, in mm (inch for length_unit in). With --cam-table: '
-                      'master position (deg) -> slave position (length_unit, deg for '
-                      'oscillating followers), optionally velocity and acceleration per deg and '
-                      'deg^2 of master.', exit_codes(LIMITS_FAILED))
+    parser = add_command(sub, 'export', 'cam_ros.commands.design:export',
+                         'Export the cam surface for manufacturing, a cutter path, or a cam table '
+                         'for a PLC',
+                         'The surface: one closed curve in mm in the cam frame (cam centre at the '
+                         'origin): CSV (x_mm,y_mm), DXF (closed LWPOLYLINE, $INSUNITS = mm) or '
+                         'SVG '
+                         '(closed path); a groove cam: both flanks, a conjugate pair: both cams, '
+                         'each its own curve. With --machining: the cutter-location path (the '
+                         'surface offset by the cutter radius) or the nominal contour, points '
+                         'placed '
+                         'by a '
+                         'chordal tolerance, in mm (inch for length_unit in). With --cam-table: '
+                         'master position (deg) -> slave position (length_unit, deg for '
+                         'oscillating followers), optionally velocity and acceleration per deg '
+                         'and '
+                         'deg^2 of master.', exit_codes(LIMITS_FAILED))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('-o', '--output', required=True, metavar='FILE',
                         help='file to write: .csv, .dxf or .svg (a cam table or a cutter path: '
@@ -134,19 +137,19 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
                         help='write the cam switch tracks (switches.*) for a PLC\'s cam '
                              'controller instead: --format csv (default) or st (PLCopen '
                              'MC_CAMSWITCH_TR / MC_TRACK_TR field names)')
-    _axis_option(parser)
+    axis_option(parser)
     parser.add_argument('--timing-diagram', action='store_true',
                         help='a machine file: each axis\'s commanded position over one machine '
                              'cycle, --format csv: machine angle (deg) and a column per axis in '
                              'its file unit, --points N steps (default 360: N + 1 rows)')
 
-    parser = _command(sub, 'studio', 'cam_ros.commands.studio:studio',
-                      'Edit a design in the browser',
-                      'Serve a web app for one design file, a cam or a machine: edit it with '
-                      'every check of the core as you type, see its S-V-A-J, pressure angle, '
-                      'curvature, cam drawing or timing diagram, save it (comments kept) and '
-                      'download what export writes. Binds 127.0.0.1 by default; another '
-                      '--host needs the token in the printed URL.', exit_codes(None))
+    parser = add_command(sub, 'studio', 'cam_ros.commands.studio:studio',
+                         'Edit a design in the browser',
+                         'Serve a web app for one design file, a cam or a machine: edit it with '
+                         'every check of the core as you type, see its S-V-A-J, pressure angle, '
+                         'curvature, cam drawing or timing diagram, save it (comments kept) and '
+                         'download what export writes. Binds 127.0.0.1 by default; another '
+                         '--host needs the token in the printed URL.', exit_codes(None))
     parser.add_argument('config', metavar='FILE', nargs='?', default=None,
                         help='the design file (default: the shipped default design, '
                              'read-only)')
@@ -158,14 +161,15 @@ def _design_commands(sub: argparse._SubParsersAction) -> None:
     parser.add_argument('--open', dest='open_browser', action='store_true',
                         help='open the page in the default browser')
 
-    parser = _command(sub, 'plan', 'cam_ros.commands.plan:plan', 'Plan the moves onto the cams',
-                      'The moves an engagement or a recovery makes from the axes\' positions '
-                      'onto their cams, in time, with the master at a position and a constant '
-                      'speed (default at rest): each move\'s duration and peaks against the '
-                      'axis\'s limits, the order when moving together would collide, and each '
-                      'interference pair\'s smallest gap or margin during the moves.',
-                      exit_codes('a move cannot be made within its axis\'s limits, or the moves '
-                                 'collide together and in every order'))
+    parser = add_command(sub, 'plan', 'cam_ros.commands.plan:plan', 'Plan the moves onto the cams',
+                         'The moves an engagement or a recovery makes from the axes\' positions '
+                         'onto their cams, in time, with the master at a position and a constant '
+                         'speed (default at rest): each move\'s duration and peaks against the '
+                         'axis\'s limits, the order when moving together would collide, and each '
+                         'interference pair\'s smallest gap or margin during the moves.',
+                         exit_codes('a move cannot be made within its axis\'s limits, or the '
+                                    'moves '
+                                    'collide together and in every order'))
     parser.add_argument('config', metavar='CONFIG', help=config_help)
     parser.add_argument('--position', action='append', required=True, metavar='AXIS=VALUE',
                         help='where an axis is (repeat per axis; the others are on their cams): '

@@ -30,12 +30,12 @@ import numpy as np
 
 from ..arrays import BLOCK
 from ..errors import InvalidParameter
-from .followers import _check_follower, _first_bad, Follower
+from .followers import check_follower, first_bad, Follower
 
 Array = np.ndarray
 
 
-def _frozen(values: Array) -> Array:
+def read_only(values: Array) -> Array:
     """Return a read-only float copy of values."""
     array = np.array(values, dtype=float)
     array.flags.writeable = False
@@ -69,7 +69,7 @@ class CamGeometry:
         return 1.0 / self.pitch_radius
 
 
-def _check_motion(theta: object, s: object, ds: object, d2s: object) -> tuple[Array, ...]:
+def check_motion(theta: object, s: object, ds: object, d2s: object) -> tuple[Array, ...]:
     """Return the motion as float arrays after checking shapes and finiteness (any order)."""
     arrays: list[Array] = []
     for name, value in (('theta', theta), ('s', s), ('ds', ds), ('d2s', d2s)):
@@ -80,7 +80,7 @@ def _check_motion(theta: object, s: object, ds: object, d2s: object) -> tuple[Ar
         if array.ndim != 1 or array.size < 1:
             raise InvalidParameter(name, f'array of shape {array.shape}',
                                    'must be 1-D with at least 1 sample')
-        bad = _first_bad(name, array, ~np.isfinite(array), 'must be finite')
+        bad = first_bad(name, array, ~np.isfinite(array), 'must be finite')
         if bad:
             raise bad
         if arrays and array.shape != arrays[0].shape:
@@ -97,11 +97,12 @@ def _geometry(follower: Follower, theta: Array, s: Array, ds: Array, d2s: Array,
     raw = follower._geometry(theta, sigma, s, ds, d2s)
     with np.errstate(divide='ignore'):
         pitch_radius = 1.0 / raw.pitch_curvature
-    offset = None if raw.contact_offset is None else _frozen(raw.contact_offset)
-    return CamGeometry(follower, clockwise, _frozen(theta), _frozen(raw.pitch[0]),
-                       _frozen(raw.pitch[1]), _frozen(raw.surface[0]), _frozen(raw.surface[1]),
-                       _frozen(raw.pressure_angle), _frozen(pitch_radius),
-                       _frozen(raw.surface_radius), offset, _frozen(ds))
+    offset = None if raw.contact_offset is None else read_only(raw.contact_offset)
+    return CamGeometry(follower, clockwise, read_only(theta), read_only(raw.pitch[0]),
+                       read_only(raw.pitch[1]), read_only(raw.surface[0]),
+                       read_only(raw.surface[1]),
+                       read_only(raw.pressure_angle), read_only(pitch_radius),
+                       read_only(raw.surface_radius), offset, read_only(ds))
 
 
 def cam_geometry(follower: Follower, theta: object, s: object, ds: object, d2s: object, *,
@@ -112,8 +113,8 @@ def cam_geometry(follower: Follower, theta: object, s: object, ds: object, d2s: 
     d2s its first and second derivatives with respect to theta. Raises InvalidParameter when the
     input is malformed or the motion leaves the follower's geometric range.
     """
-    _check_follower(follower)
-    theta_a, s_a, ds_a, d2s_a = _check_motion(theta, s, ds, d2s)
+    check_follower(follower)
+    theta_a, s_a, ds_a, d2s_a = check_motion(theta, s, ds, d2s)
     problem = follower._motion_problem(s_a, ds_a)
     if problem:
         raise problem

@@ -21,8 +21,8 @@ import numpy as np
 
 from ..errors import InvalidParameter
 from ..extremes import refine_extrema, refine_roots, TWO_PI
-from .followers import _real, Follower, ROLLERS
-from .cam_geometry import _frozen, CamGeometry
+from .followers import checked_real, Follower, ROLLERS
+from .cam_geometry import read_only, CamGeometry
 from ..motion.program import MotionProgram
 
 Array = np.ndarray
@@ -46,7 +46,7 @@ def turning_breaks(program: MotionProgram, theta: Array, ds: Array) -> Array:
     return np.concatenate((breaks, turns))
 
 
-class _Extremes:
+class GeometryExtremes:
     """Extremes and zeros of a geometry's measures, refined on the exact motion when given.
 
     sampled holds the measures at the angles theta (a CamGeometry, or the raw Profile when the
@@ -126,24 +126,26 @@ def _pressure_angle_of(measures: Any) -> Array:
     return measures.pressure_angle
 
 
-def _abs_pressure_angle(measures: Any) -> Array:
+def abs_pressure_angle(measures: Any) -> Array:
+    """Return |pressure angle| of sampled measures (a Measure of the checks and the sizing)."""
     return np.abs(measures.pressure_angle)
 
 
-def _rise_pressure_angle(measures: Any) -> Array:
+def rise_pressure_angle(measures: Any) -> Array:
     """|pressure angle| where the follower rises or dwells (ds/dtheta >= 0), else 0."""
     return np.where(measures.ds >= 0.0, np.abs(measures.pressure_angle), 0.0)
 
 
-def _return_pressure_angle(measures: Any) -> Array:
+def return_pressure_angle(measures: Any) -> Array:
     """|pressure angle| where the follower returns or dwells (ds/dtheta <= 0), else 0."""
     return np.where(measures.ds <= 0.0, np.abs(measures.pressure_angle), 0.0)
 
 
-SIDE_MEASURES = (_rise_pressure_angle, _return_pressure_angle)
+SIDE_MEASURES = (rise_pressure_angle, return_pressure_angle)
 
 
-def _curvature(measures: Any) -> Array:
+def pitch_curvature_of(measures: Any) -> Array:
+    """Return the pitch curve's curvature of sampled measures (a Measure)."""
     return measures.pitch_curvature
 
 
@@ -166,20 +168,20 @@ def _undercut_measure(follower: Follower) -> Measure:
     return _surface_radius
 
 
-def _worst_curvature(follower: Follower) -> tuple[Measure, str]:
+def worst_curvature(follower: Follower) -> tuple[Measure, str]:
     """Return the measure and kind that bound the surface radius from below.
 
     The largest pitch curvature for rollers, the smallest surface radius for flat faces.
     """
     if isinstance(follower, ROLLERS):
-        return _curvature, 'max'
+        return pitch_curvature_of, 'max'
     return _surface_radius, 'min'
 
 
-def _radius_margin(follower: Follower, worst: float, min_radius: float) -> float:
+def radius_margin(follower: Follower, worst: float, min_radius: float) -> float:
     """Return a number >= 0 exactly when every convex part of the surface has rho >= min_radius.
 
-    worst is _worst_curvature's value.
+    worst is worst_curvature's value.
     """
     if isinstance(follower, ROLLERS):
         return 1.0 / (min_radius + follower.roller_radius) - worst
@@ -198,9 +200,9 @@ def _zero_crossings(theta: Array, margin: Array) -> Array:
     return np.sort(np.concatenate((exact, between)))
 
 
-def _pressure_limit(value: object, name: str = 'max_pressure_angle') -> float:
+def pressure_limit(value: object, name: str = 'max_pressure_angle') -> float:
     """Return a pressure-angle limit (rad) after checking it lies in (0, pi/2)."""
-    return _real(name, value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
+    return checked_real(name, value, lambda x: 0.0 < x < math.pi / 2, 'in (0, pi/2) rad')
 
 
 @dataclass(frozen=True)
@@ -223,9 +225,9 @@ class PressureLimits:
                 'pressure_angle_return': self.ret - return_peak}
 
 
-def _check_limits(max_pressure_angle: Optional[float], min_radius: Optional[float],
-                  max_pressure_angle_return: Optional[float] = None,
-                  ) -> tuple[Optional[PressureLimits], Optional[float]]:
+def check_limits(max_pressure_angle: Optional[float], min_radius: Optional[float],
+                 max_pressure_angle_return: Optional[float] = None,
+                 ) -> tuple[Optional[PressureLimits], Optional[float]]:
     """Validate the optional pressure-angle (rad; return: default the rise's) and radius limits.
 
     A return limit needs a rise limit.
@@ -236,12 +238,12 @@ def _check_limits(max_pressure_angle: Optional[float], min_radius: Optional[floa
                                    'give it with max_pressure_angle_return (the rise limit)')
         angles = None
     else:
-        rise = _pressure_limit(max_pressure_angle)
+        rise = pressure_limit(max_pressure_angle)
         angles = PressureLimits(rise, rise if max_pressure_angle_return is None else
-                                _pressure_limit(max_pressure_angle_return,
-                                                'max_pressure_angle_return'))
-    radius = None if min_radius is None else _real('min_radius', min_radius,
-                                                   lambda x: x >= 0.0, '>= 0 (m)')
+                                pressure_limit(max_pressure_angle_return,
+                                               'max_pressure_angle_return'))
+    radius = None if min_radius is None else checked_real('min_radius', min_radius,
+                                                          lambda x: x >= 0.0, '>= 0 (m)')
     return angles, radius
 
 
@@ -323,18 +325,18 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         raise InvalidParameter('geometry', geometry, 'must be a CamGeometry')
     if program is not None and not isinstance(program, MotionProgram):
         raise InvalidParameter('program', program, 'must be a MotionProgram or None')
-    angles, radius_limit = _check_limits(max_pressure_angle, min_radius,
-                                         max_pressure_angle_return)
+    angles, radius_limit = check_limits(max_pressure_angle, min_radius,
+                                        max_pressure_angle_return)
     follower = geometry.follower
     roller = isinstance(follower, ROLLERS)
     wanted = [(_pressure_angle_of, 'max'), (_pressure_angle_of, 'min'),
-              (_rise_pressure_angle, 'max'), (_return_pressure_angle, 'max'),
-              _worst_curvature(follower)]
+              (rise_pressure_angle, 'max'), (return_pressure_angle, 'max'),
+              worst_curvature(follower)]
     if roller:
-        wanted.append((_curvature, 'min'))
+        wanted.append((pitch_curvature_of, 'min'))
     if geometry.contact_offset is not None:
         wanted += [(_contact_offset, 'min'), (_contact_offset, 'max')]
-    extremes = _Extremes(follower, geometry.clockwise, geometry.theta, geometry, program)
+    extremes = GeometryExtremes(follower, geometry.clockwise, geometry.theta, geometry, program)
     high, low, rise, ret, (worst, worst_at), *rest = extremes.extremes(wanted)
     peak, peak_at = max(high, (-low[0], low[1]))
     convex: Optional[float] = None
@@ -353,8 +355,8 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
     if undercut_margin <= 0.0 and not at.size:
         at = np.array([worst_at])
     return GeometryCheck(
-        undercut_angles=_frozen(at),
-        cusp_angles=_frozen(extremes.zeros(undercut, dip)),
+        undercut_angles=read_only(at),
+        cusp_angles=read_only(extremes.zeros(undercut, dip)),
         max_pressure_angle=peak,
         max_pressure_angle_at=peak_at,
         pressure_angle_limit=None if angles is None else angles.rise,
@@ -364,7 +366,7 @@ def check_geometry(geometry: CamGeometry, *, max_pressure_angle: Optional[float]
         min_radius_at=worst_at,
         radius_limit=radius_limit,
         radius_ok=None if radius_limit is None
-        else _radius_margin(follower, worst, radius_limit) >= 0.0,
+        else radius_margin(follower, worst, radius_limit) >= 0.0,
         face_min=face[0][0] if face else None,
         face_max=face[1][0] if face else None,
         pressure_angle_high=high,

@@ -29,9 +29,9 @@ from ..errors import InvalidParameter
 from ..extremes import CHECK_SAMPLES, refine_extrema, TWO_PI
 from ..motion.program import MotionProgram
 from .cam_geometry import cam_geometry
-from .check import _curvature, _Extremes, check_geometry, GeometryCheck
+from .check import pitch_curvature_of, GeometryExtremes, check_geometry, GeometryCheck
 from .envelope import Profile, roller_profile
-from .followers import (_arm_angle_problem, _arm_vectors, _contact_from_geometry, _first_bad,
+from .followers import (arm_angle_problem, arm_vectors, contact_from_geometry, first_bad,
                         Follower, OscillatingRoller, TranslatingRoller)
 from .machining import cam_contour, Contour
 
@@ -64,9 +64,9 @@ def groove_flanks(follower: Union[TranslatingRoller, OscillatingRoller], program
     half = follower.roller_radius + 0.5 * clearance
     theta, s, ds, d2s = _grid(program, samples)
     sampled = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
-    (high, high_at), (low, low_at) = _Extremes(follower, clockwise, theta, sampled,
-                                               program).extremes([(_curvature, 'max'),
-                                                                  (_curvature, 'min')])
+    extremes = GeometryExtremes(follower, clockwise, theta, sampled, program)
+    (high, high_at), (low, low_at) = extremes.extremes([(pitch_curvature_of, 'max'),
+                                                        (pitch_curvature_of, 'min')])
 
     def flank(bend: float, at: float) -> Flank:
         radius = 1.0 / bend - half if bend > 0.0 else math.inf
@@ -99,8 +99,8 @@ class ConjugateRoller(TranslatingRoller):
             raise InvalidParameter('spacing', self.spacing, 'must be a finite length > 0 (m)')
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        return _first_bad('s', s, self.prime_height + s - self.spacing >= 0.0,
-                          'roller 2 must stay below the cam centre')
+        return first_bad('s', s, self.prime_height + s - self.spacing >= 0.0,
+                         'roller 2 must stay below the cam centre')
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array) -> Profile:
         zero, one = np.zeros_like(s), np.ones_like(s)
@@ -109,7 +109,7 @@ class ConjugateRoller(TranslatingRoller):
                               np.array((zero, d2s)), np.array((zero, -one)), self.roller_radius)
 
     # Roller 1's closed form (TranslatingRoller._contact) assumes roller 1's centre and normal.
-    _contact = _contact_from_geometry
+    _contact = contact_from_geometry
 
 
 @dataclass(frozen=True)
@@ -126,11 +126,11 @@ class ConjugateArm(OscillatingRoller):
                                    'must be in (0, 2 pi) rad: the angle between the two arms')
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        return _arm_angle_problem(self.initial_arm_angle - self.conjugate_angle + math.pi, s)
+        return arm_angle_problem(self.initial_arm_angle - self.conjugate_angle + math.pi, s)
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array, d2s: Array) -> Profile:
         psi = self.initial_arm_angle + s - self.conjugate_angle
-        _, u, w = _arm_vectors(sigma, self.arm_turns_with_cam, psi)
+        _, u, w = arm_vectors(sigma, self.arm_turns_with_cam, psi)
         arm = self.arm_length
         centre = np.array((arm * u[0], self.pivot_distance + arm * u[1]))
         return roller_profile(theta, sigma, centre, arm * ds * w, arm * (d2s * w - ds ** 2 * u),

@@ -35,7 +35,7 @@ Array = np.ndarray
 Measures = tuple[Array, Array]
 
 
-def _real(name: str, value: object, ok: Callable[[float], bool], rule: str) -> float:
+def checked_real(name: str, value: object, ok: Callable[[float], bool], rule: str) -> float:
     """Return value as a float after checking it is a finite real number for which ok holds."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
         raise InvalidParameter(name, value, f'must be a real number {rule}')
@@ -49,9 +49,9 @@ def _set_lengths(follower: object, *names: str, signed: tuple[str, ...] = ()) ->
     """Check and store (as floats) the length fields of a frozen follower."""
     for name in names:
         if name in signed:
-            value = _real(name, getattr(follower, name), lambda x: True, 'finite (m)')
+            value = checked_real(name, getattr(follower, name), lambda x: True, 'finite (m)')
         else:
-            value = _real(name, getattr(follower, name), lambda x: x > 0.0, '> 0 (m)')
+            value = checked_real(name, getattr(follower, name), lambda x: x > 0.0, '> 0 (m)')
         object.__setattr__(follower, name, value)
 
 
@@ -63,7 +63,7 @@ def _set_flag(follower: object, name: str) -> None:
     object.__setattr__(follower, name, bool(value))
 
 
-def _first_bad(name: str, values: Array, bad: Array, rule: str) -> Optional[InvalidParameter]:
+def first_bad(name: str, values: Array, bad: Array, rule: str) -> Optional[InvalidParameter]:
     """Return an InvalidParameter naming the first sample where bad holds, else None."""
     if not np.any(bad):
         return None
@@ -100,8 +100,8 @@ class TranslatingRoller:
         return math.sqrt((self.prime_radius - self.offset) * (self.prime_radius + self.offset))
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        return _first_bad('s', s, self.prime_height + s <= 0.0, 'roller centre must stay above '
-                          f'the cam centre (s > {-self.prime_height:g} m)')
+        return first_bad('s', s, self.prime_height + s <= 0.0, 'roller centre must stay above '
+                         f'the cam centre (s > {-self.prime_height:g} m)')
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> Profile:
@@ -148,8 +148,8 @@ class TranslatingFlat:
         return 0.0, math.inf
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        return _first_bad('s', s, self.base_radius + s <= 0.0,
-                          f'face must stay above the cam centre (s > {-self.base_radius:g} m)')
+        return first_bad('s', s, self.base_radius + s <= 0.0,
+                         f'face must stay above the cam centre (s > {-self.base_radius:g} m)')
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> Profile:
@@ -174,9 +174,9 @@ class TranslatingFlat:
         return angle, radius
 
 
-def _contact_from_geometry(follower: 'Follower', theta: Values, sigma: int, s: Values,
-                           ds: Values, d2s: Values,
-                           out: Measures | None = None) -> tuple[Values, Values]:
+def contact_from_geometry(follower: 'Follower', theta: Values, sigma: int, s: Values,
+                          ds: Values, d2s: Values,
+                          out: Measures | None = None) -> tuple[Values, Values]:
     """Return the pressure angle and surface radius of the follower's full _geometry (into out
     if given): the _contact of a follower without a closed form (one angle: an array of one)."""
     theta_, s_, ds_, d2s_ = [np.atleast_1d(value) for value in (theta, s, ds, d2s)]
@@ -190,7 +190,7 @@ def _contact_from_geometry(follower: 'Follower', theta: Values, sigma: int, s: V
     return out
 
 
-def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:
+def arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Array]:
     """Return lambda, the arm unit vector u and w = du/dpsi (fixed frame) of an oscillating arm."""
     lam = sigma if with_cam else -sigma
     u = np.array((lam * np.sin(psi), -np.cos(psi)))
@@ -198,11 +198,11 @@ def _arm_vectors(sigma: int, with_cam: bool, psi: Array) -> tuple[int, Array, Ar
     return lam, u, w
 
 
-def _arm_angle_problem(psi0: float, s: Array) -> Optional[InvalidParameter]:
+def arm_angle_problem(psi0: float, s: Array) -> Optional[InvalidParameter]:
     """Return an error if the arm angle psi0 + s leaves (0, pi)."""
     psi = psi0 + s
-    return _first_bad('s', s, (psi <= 0.0) | (psi >= math.pi),
-                      f'arm angle psi0 + s must stay in (0, pi) rad; psi0 = {psi0:g} rad')
+    return first_bad('s', s, (psi <= 0.0) | (psi >= math.pi),
+                     f'arm angle psi0 + s must stay in (0, pi) rad; psi0 = {psi0:g} rad')
 
 
 @dataclass(frozen=True)
@@ -244,17 +244,17 @@ class OscillatingRoller:
         return max(0.0, low), self.pivot_distance + self.arm_length - self.roller_radius
 
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
-        return _arm_angle_problem(self.initial_arm_angle, s)
+        return arm_angle_problem(self.initial_arm_angle, s)
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> Profile:
-        _, u, w = _arm_vectors(sigma, self.arm_turns_with_cam, self.initial_arm_angle + s)
+        _, u, w = arm_vectors(sigma, self.arm_turns_with_cam, self.initial_arm_angle + s)
         arm = self.arm_length
         centre = np.array((arm * u[0], self.pivot_distance + arm * u[1]))
         return roller_profile(theta, sigma, centre, arm * ds * w, arm * (d2s * w - ds ** 2 * u),
                               w, self.roller_radius)
 
-    _contact = _contact_from_geometry
+    _contact = contact_from_geometry
 
 
 @dataclass(frozen=True)
@@ -292,18 +292,18 @@ class OscillatingFlat:
     def _motion_problem(self, s: Array, ds: Array) -> Optional[InvalidParameter]:
         psi = self.initial_arm_angle + s
         mu = 1.0 if self.arm_turns_with_cam else -1.0
-        return (_arm_angle_problem(self.initial_arm_angle, s)
-                or _first_bad('s', s, self.pivot_distance * np.sin(psi) <= self.face_offset,
-                              'the face must stay clear of the cam centre')
-                or _first_bad('ds', ds, 1.0 - mu * ds <= 0.0,
-                              'the arm must turn slower than the cam in the cam\'s sense '
-                              '(1 - mu*ds/dtheta > 0)'))
+        return (arm_angle_problem(self.initial_arm_angle, s)
+                or first_bad('s', s, self.pivot_distance * np.sin(psi) <= self.face_offset,
+                             'the face must stay clear of the cam centre')
+                or first_bad('ds', ds, 1.0 - mu * ds <= 0.0,
+                             'the arm must turn slower than the cam in the cam\'s sense '
+                             '(1 - mu*ds/dtheta > 0)'))
 
     def _geometry(self, theta: Array, sigma: int, s: Array, ds: Array,
                   d2s: Array) -> Profile:
         c, f = self.pivot_distance, self.face_offset
         psi = self.initial_arm_angle + s
-        lam, u, w = _arm_vectors(sigma, self.arm_turns_with_cam, psi)
+        lam, u, w = arm_vectors(sigma, self.arm_turns_with_cam, psi)
         distance = c * np.sin(psi) - f
         d_distance = c * np.cos(psi) * ds
         d2_distance = c * (np.cos(psi) * d2s - np.sin(psi) * ds ** 2)
@@ -315,7 +315,7 @@ class OscillatingFlat:
         _, foot_curvature = relative_motion(sigma, foot, f * ds * u, f * (d2s * u + ds ** 2 * w))
         return Profile(theta, sigma, foot, contact, angle, foot_curvature, radius, along, w)
 
-    _contact = _contact_from_geometry
+    _contact = contact_from_geometry
 
 
 Follower = Union[TranslatingRoller, TranslatingFlat, OscillatingRoller, OscillatingFlat]
@@ -323,7 +323,7 @@ FOLLOWER_TYPES = (TranslatingRoller, TranslatingFlat, OscillatingRoller, Oscilla
 ROLLERS = (TranslatingRoller, OscillatingRoller)
 
 
-def _check_follower(follower: object) -> None:
+def check_follower(follower: object) -> None:
     if not isinstance(follower, FOLLOWER_TYPES):
         raise InvalidParameter('follower', follower, 'must be one of ' +
                                ', '.join(kind.__name__ for kind in FOLLOWER_TYPES))

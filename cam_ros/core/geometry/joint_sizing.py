@@ -27,7 +27,7 @@ import numpy as np
 from ..errors import InvalidParameter
 from ..extremes import CHECK_SAMPLES, refine_extrema, TWO_PI
 from ..motion.program import MotionProgram
-from .check import _check_limits, _Extremes, _return_pressure_angle, _rise_pressure_angle
+from .check import check_limits, GeometryExtremes, return_pressure_angle, rise_pressure_angle
 from .check import PressureLimits, turning_breaks
 from .followers import TranslatingRoller
 
@@ -110,8 +110,8 @@ def _peaks(program: MotionProgram, x: float, d: float, sigma: int,
     motion = program.evaluate(theta)
     sampled = follower._geometry(theta, sigma, motion.s, motion.ds, motion.d2s)
     sampled.ds = motion.ds
-    found = _Extremes(follower, sigma < 0, theta, sampled, program).extremes(
-        [(_rise_pressure_angle, 'max'), (_return_pressure_angle, 'max')])
+    found = GeometryExtremes(follower, sigma < 0, theta, sampled, program).extremes(
+        [(rise_pressure_angle, 'max'), (return_pressure_angle, 'max')])
     return found[0][0], found[1][0]
 
 
@@ -126,7 +126,7 @@ def smallest_cam(roller_radius: float, program: MotionProgram, *, max_pressure_a
     """
     if not isinstance(program, MotionProgram):
         raise InvalidParameter('program', program, 'must be a MotionProgram')
-    limits, _ = _check_limits(max_pressure_angle, None, max_pressure_angle_return)
+    limits, _ = check_limits(max_pressure_angle, None, max_pressure_angle_return)
     assert limits is not None
     sigma = -1 if clockwise else 1
     a, b, sides = _lines(program, limits, samples)

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InvalidParameter
 from ..extremes import CHECK_SAMPLES, refine_extrema, TWO_PI
 from ..motion.program import MotionProgram
-from .followers import _check_follower, Follower
+from .followers import check_follower, Follower
 
 Array = np.ndarray
 #: Points, outward unit normals ((2, n) each, m) and signed curvature (n, 1/m) at angles (n,).
@@ -71,7 +71,7 @@ class Contour:
 
 def cam_contour(follower: Follower, program: MotionProgram, clockwise: bool) -> Contour:
     """Return the cam surface of a follower driven by program as a Contour (cam frame)."""
-    _check_follower(follower)
+    check_follower(follower)
     sigma = -1 if clockwise else 1
 
     def evaluate(theta: Array) -> tuple[Array, Array, Array]:

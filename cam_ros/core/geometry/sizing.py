@@ -16,11 +16,11 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..errors import InvalidParameter
-from .followers import _check_follower, _real, Follower
-from .cam_geometry import _check_motion
-from .check import (_abs_pressure_angle, _check_limits, _Extremes, _pressure_limit, _radius_margin,
-                    _return_pressure_angle, _rise_pressure_angle, _worst_curvature, Measure,
-                    PressureLimits)
+from .followers import check_follower, checked_real, Follower
+from .cam_geometry import check_motion
+from .check import (abs_pressure_angle, check_limits, GeometryExtremes, Measure, pressure_limit,
+                    PressureLimits, radius_margin, return_pressure_angle, rise_pressure_angle,
+                    worst_curvature)
 from ..motion.program import MotionProgram
 
 DENSE_SAMPLES = 3600  # samples per revolution recommended for sizing
@@ -74,15 +74,15 @@ def _margins(follower: Follower, motion: tuple[np.ndarray, ...], clockwise: bool
         return {'geometry': _INVALID}
     wanted: dict[str, tuple[Measure, str]] = {}
     if angles is not None and angles.single:
-        wanted['pressure_angle'] = (_abs_pressure_angle, 'max')
+        wanted['pressure_angle'] = (abs_pressure_angle, 'max')
     elif angles is not None:
-        wanted['rise'] = (_rise_pressure_angle, 'max')
-        wanted['return'] = (_return_pressure_angle, 'max')
+        wanted['rise'] = (rise_pressure_angle, 'max')
+        wanted['return'] = (return_pressure_angle, 'max')
     if radius is not None:
-        wanted['radius'] = _worst_curvature(follower)
+        wanted['radius'] = worst_curvature(follower)
     sampled = follower._geometry(theta, -1 if clockwise else 1, s, ds, d2s)
     sampled.ds = ds
-    extremes = _Extremes(follower, clockwise, theta, sampled, program)
+    extremes = GeometryExtremes(follower, clockwise, theta, sampled, program)
     found = {name: value for name, (value, _) in zip(wanted, extremes.extremes(
         list(wanted.values())))}
     margins = {}
@@ -90,7 +90,7 @@ def _margins(follower: Follower, motion: tuple[np.ndarray, ...], clockwise: bool
         margins = angles.margins(found.get('rise', found.get('pressure_angle', 0.0)),
                                  found.get('return', found.get('pressure_angle', 0.0)))
     if radius is not None:
-        margins['radius'] = _radius_margin(follower, found['radius'], radius)
+        margins['radius'] = radius_margin(follower, found['radius'], radius)
     return margins
 
 
@@ -179,15 +179,15 @@ def size_base_radius(follower: Follower, theta: object, s: object, ds: object, d
     hold exactly at the returned radius; without it pass dense samples (see DENSE_SAMPLES).
     For followers with a bounded base radius the feasible interval's upper end is found too.
     """
-    _check_follower(follower)
-    motion = _check_motion(theta, s, ds, d2s)
-    angle, radius = _check_limits(max_pressure_angle, min_radius, max_pressure_angle_return)
+    check_follower(follower)
+    motion = check_motion(theta, s, ds, d2s)
+    angle, radius = check_limits(max_pressure_angle, min_radius, max_pressure_angle_return)
     if angle is None and radius is None:
         raise InvalidParameter('max_pressure_angle', None,
                                'give max_pressure_angle and/or min_radius to size for')
     if program is not None and not isinstance(program, MotionProgram):
         raise InvalidParameter('program', program, 'must be a MotionProgram or None')
-    tol = _real('tolerance', tolerance, lambda x: x > 0.0, '> 0 (m)')
+    tol = checked_real('tolerance', tolerance, lambda x: x > 0.0, '> 0 (m)')
 
     def margins(base_radius: float, exact: bool) -> dict[str, float]:
         trial = dataclasses.replace(follower, base_radius=base_radius)
@@ -253,7 +253,7 @@ class BaseRadiusEstimate:
 
 
 def _positive(name: str, value: float, rule: str = '> 0') -> float:
-    return _real(name, value, lambda x: x > 0.0, rule)
+    return checked_real(name, value, lambda x: x > 0.0, rule)
 
 
 def estimate_base_radius(rise: float, rise_angle: float, velocity_coefficient: float,
@@ -267,11 +267,12 @@ def estimate_base_radius(rise: float, rise_angle: float, velocity_coefficient: f
     max_pressure_angle phi_max (rad) in (0, pi/2), eccentricity_angle eps (rad) in [0, pi/2).
     """
     h = _positive('rise', rise, '> 0 (m)')
-    beta = _real('rise_angle', rise_angle, lambda x: 0.0 < x <= 2 * math.pi, 'in (0, 2 pi] rad')
+    beta = checked_real('rise_angle', rise_angle, lambda x: 0.0 < x <= 2 * math.pi,
+                        'in (0, 2 pi] rad')
     cv = _positive('velocity_coefficient', velocity_coefficient)
-    phi = _pressure_limit(max_pressure_angle)
-    eps = _real('eccentricity_angle', eccentricity_angle, lambda x: 0.0 <= x < math.pi / 2,
-                'in [0, pi/2) rad')
+    phi = pressure_limit(max_pressure_angle)
+    eps = checked_real('eccentricity_angle', eccentricity_angle, lambda x: 0.0 <= x < math.pi / 2,
+                       'in [0, pi/2) rad')
     mean = cv * h / (beta * math.cos(eps) * (math.tan(phi) + math.tan(eps)))
     sigma = -1.0 if clockwise else 1.0
     return BaseRadiusEstimate(mean, mean - h / 2.0, sigma * mean * math.sin(eps), mean / h)
