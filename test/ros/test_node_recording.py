@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from cam_ros_interfaces.srv import EvaluateCam
 from conftest import CONFIG_DIR
+from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool
 
 from cam_ros.cli import main as cam_ros
@@ -22,6 +23,8 @@ from cam_ros.recording import open_recording
 DEFAULT = CONFIG_DIR / 'default.yaml'
 CALL_TIMEOUT_S = 10.0
 RUN_S = 1.5
+WITNESSED_STATES = 40  # state messages a witness sees before the recording node is stopped
+WITNESS_DEPTH = 100
 ANGLES = np.radians([0.0, 100.0, 130.0, 150.0, 250.0, 330.0])
 NODE_TOPICS = {'/cam/profile', '/cam/pressure_angle', '/cam/markers', '/cam/joint_states',
                '/cam/state_extras', '/parameter_events'}
@@ -41,11 +44,20 @@ def only_file(folder: Path) -> Path:
     return files[0]
 
 
-def test_recording_from_start_up_opens_with_rosbags_and_mcap_ros2(start_cam_node, tmp_path):
+def test_recording_from_start_up_opens_with_rosbags_and_mcap_ros2(start_cam_node, executor,
+                                                                  tmp_path):
     folder = tmp_path / 'runs'
     process, _ = start_cam_node(DEFAULT, '-p', 'recording.enabled:=true',
                                 '-p', f'recording.directory:={folder}')
-    time.sleep(RUN_S)
+    # Evidence the node published, not a sleep: a witness's count of its state messages.
+    witnessed = set()
+    executor.node('witness').create_subscription(
+        JointState, '/cam/joint_states', lambda m: witnessed.add(
+            (m.header.stamp.sec, m.header.stamp.nanosec)), WITNESS_DEPTH)
+    deadline = time.monotonic() + CALL_TIMEOUT_S * 3
+    while len(witnessed) < WITNESSED_STATES:
+        assert time.monotonic() < deadline, f'{len(witnessed)} state messages witnessed'
+        time.sleep(0.01)
     assert process.stop(signal.SIGINT) == 0, process.log()
     path = only_file(folder)
 
@@ -55,7 +67,7 @@ def test_recording_from_start_up_opens_with_rosbags_and_mcap_ros2(start_cam_node
     assert 'cam_config.yaml' in recording.attachments
     assert recording.attachments['cam_config.yaml'] == DEFAULT.read_text()
     joints = recording.topics['/cam/joint_states']
-    assert joints.count >= RUN_S * 50 * 0.5
+    assert joints.count >= WITNESSED_STATES  # recorded from start-up, before the witness
     assert joints.type_hash == installed_type_hash('sensor_msgs', 'JointState')
     profile_qos = recording.topics['/cam/profile'].qos[0]
     assert profile_qos['durability'] == 'transient_local'
