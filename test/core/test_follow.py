@@ -91,5 +91,3 @@ def test_an_offset_change_blends_to_the_new_offset_over_the_distance():
                                0.002 * (10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5), atol=1e-15)
     after = q - 1.0 >= DISTANCE
     np.testing.assert_array_equal(np.array(points)[after], moved.setpoints(q[after]).position)
-
-

@@ -8,6 +8,7 @@ import pytest
 
 from cam_ros.core import build_design, parse_parameters
 from cam_ros.core.ecam.line_shaft import LineShaft
+from cam_ros.core.ecam.master_tracker import MasterState
 from cam_ros.core.ecam.path_limits import MARGIN, PathLimits
 from cam_ros.core.ecam.slave_limits import SlaveLimits
 
@@ -93,7 +94,6 @@ def test_a_constant_velocity_axis_stops_at_its_acceleration_limit_in_closed_form
     path = PathLimits.of([design.electronic_cam], [limits], 10.0, math.radians(30))
     assert np.all(path.forward == path.forward[0])  # the same everywhere: no limit curve
     shaft = LineShaft(path, one_way=False)
-    from cam_ros.core.ecam.master_tracker import MasterState
     shaft.master(MasterState(0, 0.0, 10.0, 0.0, 0.0, 0.0))
     shaft.halt('test')
     expected = 10.0 * 2.0 / (50.0 * (1 - MARGIN))  # k = 2 (720 deg per turn)
@@ -113,6 +113,15 @@ def test_without_acceleration_limits_the_master_stops_over_the_engage_distance()
         'motion.start_position': [0.0], 'motion.end_position': [0.0]}))
     distance = math.radians(30.0)
     path = PathLimits.of([design.electronic_cam], [SlaveLimits()], 10.0, distance)
-    assert path.master_acceleration == pytest.approx(100.0 / (2 * distance) * (1 - MARGIN))
-    assert path.band(1.0, 10.0) == pytest.approx((-path.master_acceleration,
-                                                  path.master_acceleration))
+    deceleration = 100.0 / (2 * distance) * (1 - MARGIN)
+    assert path.master_acceleration == pytest.approx(deceleration)
+    assert path.band(1.0, 10.0) == (-math.inf, math.inf)  # a master followed is not limited
+    shaft = LineShaft(path, one_way=False)
+    shaft.master(MasterState(0, 0.0, 10.0, 0.0, 0.0, 0.0))
+    shaft.halt('test')
+    steps = 0
+    while shaft.state.omega > 0.0:
+        steps += 1
+        shaft.tick(round(steps * DT * 1e9))
+    assert (steps - 1) * DT < 10.0 / deceleration <= steps * DT
+    assert shaft.state.theta == pytest.approx(distance / (1 - MARGIN), rel=1e-9)

@@ -164,7 +164,8 @@ class LineShaft:
         if dt <= 0.0:
             return state
         admissible = self.following and self._admissible(target)
-        if admissible and (self.locked or self._near(state, target, dt)):
+        if admissible and (self._near(state, target, dt, 1.0) if self.locked else
+                           self._near(state, target, dt, CHASE)):
             self.locked = True
             self.state = Virtual(stamp_ns, target.theta, target.omega, target.alpha,
                                  target.theta - state.theta)
@@ -187,9 +188,12 @@ class LineShaft:
                  before: float) -> tuple[float, float]:
         """Move theta_v over h: toward the target (as it was `before` s before its stamp, at the
         substep's start) or, halted, to rest; return its position and speed."""
-        lower, upper = self.limits.band(theta, omega)
+        limits = self.limits
+        lower, upper = limits.band(theta, omega)
         if lower > upper:  # at a joint where the bands part: the middle of the two
             lower = upper = 0.5 * (lower + upper)
+        lower = max(lower, -limits.master_acceleration)
+        upper = min(upper, limits.master_acceleration)
         if self.following:
             alpha = self._chase(theta, omega, h, target.theta - target.omega * before,
                                 target.omega, lower, upper)
@@ -220,13 +224,15 @@ class LineShaft:
         wanted = max(wanted, 0.0 if self.one_way else -limits.stoppable(theta, -1.0, ahead))
         return min(max((wanted - omega) / h, lower), upper)
 
-    def _near(self, state: Virtual, target: _Target, dt: float) -> bool:
-        """Say whether theta_v may lock on the target: within one step at CHASE of the band of
-        the master's position and speed (a lock moves the commands as such a step would)."""
-        expected = state.theta + state.omega * dt
+    def _near(self, state: Virtual, target: _Target, dt: float, share: float) -> bool:
+        """Say whether theta_v may be the target after dt: within one step at share of the
+        axes' band (locking: CHASE of its narrower side; locked: 1, its wider side) of where
+        theta_v's own motion takes it. A lock so moves the commands as such a step would; a
+        master followed that jumps further is filtered."""
+        expected = state.theta + 0.5 * (state.omega + target.omega) * dt
         lower, upper = self.limits.band(expected, max(abs(state.omega), abs(target.omega)),
                                         target.theta - expected)
-        rate = CHASE * max(min(-lower, upper), 0.0)
+        rate = share * max(min(-lower, upper) if share < 1.0 else max(-lower, upper), 0.0)
         return abs(target.theta - expected) <= 0.5 * rate * dt * dt and \
             abs(target.omega - state.omega) <= rate * dt
 

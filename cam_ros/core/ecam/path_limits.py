@@ -124,7 +124,7 @@ class PathLimits:
     forward: np.ndarray
     backward: np.ndarray
     master_acceleration: float
-    bands: Bands  # at the grid points, for a master moving forward (the first again at the end)
+    bands: Bands  # the axes' (not the master's own) at the grid points (the first again last)
 
     @classmethod
     def of(cls, cams: Sequence[ElectronicCam], limits: Sequence[SlaveLimits],
@@ -149,8 +149,9 @@ class PathLimits:
         forward = _braking(ahead, np.diff(np.append(theta, cycle)))
         backward = _braking(behind, np.append(-np.diff(theta[::-1]), theta[0] + cycle - theta[-1])
                             )[::-1]
+        axes = bands(slope, curvature, velocity, acceleration)
         wrapped = Bands(*(np.concatenate([part, part[..., :1]], axis=-1) for part in (
-            ahead.lower0, ahead.lower1, ahead.upper0, ahead.upper1, ahead.cap)))
+            axes.lower0, axes.lower1, axes.upper0, axes.upper1, axes.cap)))
         return cls(tuple(cams), velocity, acceleration, cycle, theta, forward, backward, master,
                    wrapped)
 
@@ -171,12 +172,14 @@ class PathLimits:
                 float(found.upper(s)[0]))
 
     def band(self, theta: float, omega: float, travel: float = 0.0) -> tuple[float, float]:
-        """Return the admissible master accelerations (least, largest) at a master speed from
-        the grid, on the safe side over the grid points around theta and travel (rad) on."""
+        """Return the master accelerations (least, largest) the axes admit at a master speed
+        from the grid, on the safe side over the grid points around theta and travel (rad) on
+        (the master's own limit is not in it: it bounds stops, not a master followed)."""
         found, s = self.bands, omega * omega
-        cells = self._span(theta, travel)
-        if isinstance(cells, slice) and cells.stop > len(self.theta) + 1:
-            cells = np.arange(cells.start, cells.stop) % len(self.theta)
+        span = self._span(theta, travel)
+        cells: slice | np.ndarray = span
+        if span.stop > len(self.theta) + 1:
+            cells = np.arange(span.start, span.stop) % len(self.theta)
         lower = found.lower0[:, cells] + found.lower1[:, cells] * s
         upper = found.upper0[:, cells] + found.upper1[:, cells] * s
         return float(lower.max()), float(upper.min())
@@ -207,6 +210,7 @@ class PathLimits:
         if cells.stop - cells.start > len(curve):
             return float(curve.min())
         return float(curve.take(range(cells.start, cells.stop), mode='wrap').min())
+
 
 def _derivatives(cams: Sequence[ElectronicCam], theta: npt.ArrayLike
                  ) -> tuple[np.ndarray, np.ndarray]:
