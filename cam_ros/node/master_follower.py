@@ -5,13 +5,14 @@ The CamNode creates a MasterFollower when master.source is topic, for the axes i
 machine's, or the single cam's joint follower: one path for both). The axes follow the machine's
 line shaft (cam_ros.core.ecam.line_shaft), stepped by the newest master message (sensor_msgs/
 JointState; a backlog is skipped and counted) and, while the master is silent for
-COAST_INTERVALS of its intervals or the line shaft stops, by a clock thread of its own. Each
-step publishes ~/commands for a forward_command_controller (position or velocity of every axis
-joint, in the axes' order), ~/joint_states (the master joint and every axis joint, stamps always
-increasing) and, with a trajectory horizon, ~/joint_trajectory for a joint_trajectory_controller
-(command_topics.py sends those); /diagnostics about once a second. A master loss, a following
-error, ~/engage false and deactivating are synchronized stops of the line shaft, never a stop in
-one message. One master subscription, one speed estimate for all axes; every number comes from
+COAST_INTERVALS of its intervals (and COAST_SHARE of master.timeout) or the line shaft stops,
+by a clock thread of its own. Each step publishes ~/commands for a forward_command_controller
+(position or velocity of every axis joint, in the axes' order), ~/joint_states (the master joint
+and every axis joint, stamps always increasing) and, with a trajectory horizon,
+~/joint_trajectory for a joint_trajectory_controller (command_topics.py sends those);
+/diagnostics about once a second. A master loss, a following error, ~/engage false and
+deactivating are synchronized stops of the line shaft, never a stop in one message. One master
+subscription, one speed estimate for all axes; every number comes from
 cam_ros.core.ecam.
 """
 from __future__ import annotations
@@ -51,9 +52,10 @@ from cam_ros.node.command_topics import COMMAND_QOS, CommandTopics
 from cam_ros.node.qos_events import LATCHED, publisher
 
 DIAGNOSTICS_PERIOD_S = 1.0
-#: The line shaft's clock: its period, and the master silence (in the master's own intervals, at
-#: least one period) after which it steps the line shaft instead of the master's messages.
-CLOCK_PERIOD_S, COAST_INTERVALS = 0.005, 3
+#: The line shaft's clock: its period, and the master silence after which it steps the line
+#: shaft instead of the master's messages: COAST_INTERVALS of the master's own intervals, at
+#: least COAST_SHARE of master.timeout (a master's jitter is not silence).
+CLOCK_PERIOD_S, COAST_INTERVALS, COAST_SHARE = 0.005, 3, 0.1
 #: Longest deactivate waits for the synchronized stop to come to rest.
 STOP_WAIT_S = 10.0
 
@@ -328,7 +330,8 @@ class MasterFollower:
         if last is None or self._rested or not self._sending():
             return
         silent = self._node.get_clock().now().nanoseconds - self._arrived_ns
-        if silent < max(COAST_INTERVALS * self._interval_ns, int(CLOCK_PERIOD_S * 1e9)):
+        coast = max(COAST_INTERVALS * self._interval_ns, self._tracker.timeout_ns * COAST_SHARE)
+        if silent < coast:
             return
         stamp = last.stamp_ns + silent  # the master's clock, carried on
         self._send(stamp, last.position, 0.0, self._axes.tick(stamp, last.position))
