@@ -11,7 +11,7 @@ reported state (slave.state_topic): where a first engagement starts.
 """
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Sequence
 
 from cam_ros_interfaces.msg import EngageRequest, SwitchState
 from rclpy.node import Node
@@ -51,8 +51,8 @@ class EcamLog:
             message.header.stamp = Time(nanoseconds=last_stamp_ns).to_msg()
         self._engage_pub.publish(message)
 
-    def switched(self, stamp: Any, master_position: float, word: int) -> None:
-        """Publish a switch word found at the master message of stamp (builtin Time)."""
+    def switched(self, stamp_ns: int, master_position: float, word: int) -> None:
+        """Publish a switch word found at the line shaft's step stamped stamp_ns."""
         message = SwitchState(master_position=master_position, bits=word)
-        message.header.stamp = stamp
+        message.header.stamp = Time(nanoseconds=stamp_ns).to_msg()
         self._switch_pub.publish(message)

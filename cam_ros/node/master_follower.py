@@ -280,11 +280,6 @@ class MasterFollower:
                                                   self._axes.followers, self._units):
             if handover is not None and follower.handover is None:
                 self._said_applied(name, handover.old, handover.new, state, unit)
-        mapping = CamMapping() if self._machine else self._axes.followers[0].cam.mapping
-        for word in self._tracks.update(float(mapping.turns(state.track)),
-                                        state.omega / mapping.master_scaling):
-            self._switches_pub.publish(UInt32(data=word))
-            self._log.switched(message.header.stamp, state.position, word)
         self._publish_state()
         if before != OK:
             self._node.get_logger().info(f'master {before} -> ok')
@@ -306,6 +301,13 @@ class MasterFollower:
             return
         self._topics.sample(stamp, master, speed, commands)
         self._history.add(self._topics.stamp_ns, commands.position, commands.velocity)
+        virtual = self._axes.virtual  # the switches are on the line shaft, as the axes
+        assert virtual is not None
+        mapping = CamMapping() if self._machine else self._axes.followers[0].cam.mapping
+        for word in self._tracks.update(float(mapping.turns(virtual.track)),
+                                        virtual.omega / mapping.master_scaling):
+            self._switches_pub.publish(UInt32(data=word))
+            self._log.switched(self._topics.stamp_ns, master, word)
         shaft = self._axes.shaft
         self._rested = shaft.mode == AT_REST
         if self._rested:

@@ -192,8 +192,8 @@ class LineShaft:
         lower, upper = limits.band(theta, omega)
         if lower > upper:  # at a joint where the bands part: the middle of the two
             lower = upper = 0.5 * (lower + upper)
-        lower = max(lower, -limits.master_acceleration)
-        upper = min(upper, limits.master_acceleration)
+        own = limits.master_limit(omega)
+        lower, upper = max(lower, -own), min(upper, own)
         if self.following:
             alpha = self._chase(theta, omega, h, target.theta - target.omega * before,
                                 target.omega, lower, upper)
@@ -230,8 +230,11 @@ class LineShaft:
         theta_v's own motion takes it. A lock so moves the commands as such a step would; a
         master followed that jumps further is filtered."""
         expected = state.theta + 0.5 * (state.omega + target.omega) * dt
-        lower, upper = self.limits.band(expected, max(abs(state.omega), abs(target.omega)),
-                                        target.theta - expected)
+        speed = max(abs(state.omega), abs(target.omega))
+        lower, upper = self.limits.band(expected, speed, target.theta - expected)
+        if share < 1.0:  # a lock ends a catch-up: as a catch-up, within the master's own limit
+            lower, upper = (max(lower, -self.limits.master_limit(speed)),
+                            min(upper, self.limits.master_limit(speed)))
         rate = share * max(min(-lower, upper) if share < 1.0 else max(-lower, upper), 0.0)
         return abs(target.theta - expected) <= 0.5 * rate * dt * dt and \
             abs(target.omega - state.omega) <= rate * dt

@@ -23,9 +23,10 @@ points), around the cycle until it repeats; online it is read, the lower of the 
 grid values (the safe side). Every limit is taken MARGIN below its value: the grid's
 collocation and a controller stepping in time both stay inside.
 
-Without any acceleration limit a stop would take one message; then the master itself is limited
-to the deceleration that stops the speed at cam_speed over master.engage_distance_deg of travel
-(the travel of an engagement ramp).
+Without any acceleration limit a stop would take one message; then stops and catch-ups of the
+master are limited to the acceleration that stops its speed (at least the speed at cam_speed)
+over master.engage_distance_deg of travel, the travel of an engagement ramp (master_limit); a
+master followed is not limited.
 """
 from __future__ import annotations
 
@@ -123,7 +124,8 @@ class PathLimits:
     theta: np.ndarray
     forward: np.ndarray
     backward: np.ndarray
-    master_acceleration: float
+    master_acceleration: float  # master_limit at the speed at cam_speed (inf: axes limit it)
+    engage_distance: float
     bands: Bands  # the axes' (not the master's own) at the grid points (the first again last)
 
     @classmethod
@@ -153,7 +155,16 @@ class PathLimits:
         wrapped = Bands(*(np.concatenate([part, part[..., :1]], axis=-1) for part in (
             axes.lower0, axes.lower1, axes.upper0, axes.upper1, axes.cap)))
         return cls(tuple(cams), velocity, acceleration, cycle, theta, forward, backward, master,
-                   wrapped)
+                   engage_distance, wrapped)
+
+    def master_limit(self, omega: float) -> float:
+        """Return the master's own acceleration limit in a stop or a catch-up at speed omega:
+        inf when an axis limits acceleration, else the stop over the engage distance from
+        omega (at least the speed at cam_speed)."""
+        if math.isinf(self.master_acceleration):
+            return math.inf
+        return max(self.master_acceleration, omega * omega / (2.0 * self.engage_distance)
+                   * (1.0 - MARGIN))
 
     def _bands_at(self, theta: npt.ArrayLike) -> Bands:
         """Return the machine's bands exactly at master positions theta."""
