@@ -38,3 +38,9 @@ def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[s
                     'chromium (apt-get install chromium)')
     return {**browser_type_launch_args, 'executable_path': str(CHROMIUM),
             'args': ['--no-sandbox']}
+
+
+@pytest.fixture(scope='session')
+def browser_context_args(browser_context_args: dict[str, Any]) -> dict[str, Any]:
+    """Pages as on a desktop screen (the docs' screenshot too)."""
+    return {**browser_context_args, 'viewport': {'width': 1500, 'height': 950}}

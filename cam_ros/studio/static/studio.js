@@ -391,7 +391,8 @@ const PAIR_COLORS = ['rgba(214,39,40,0.25)', 'rgba(255,127,14,0.25)'];
 
 function drawTiming(view) {
   const node = document.getElementById('timing');
-  if (!view.timing) { Plotly.purge(node); node.replaceChildren(); return; }
+  node.style.display = view.timing ? '' : 'none';  // shown before drawing: plotly measures it
+  if (!view.timing) { Plotly.purge(node); return; }
   const timing = view.timing, names = Object.keys(timing.positions), n = names.length;
   const traces = names.map((name, i) => ({
     x: timing.angle_deg, y: timing.positions[name], name: `${name} (${timing.units[name]})`,
@@ -491,8 +492,9 @@ function step(from, to) {
 async function start() {
   studio.design = await (await api('api/design')).json();
   studio.values = studio.design.values;
-  document.getElementById('file').textContent = studio.design.label
-    + (studio.design.read_only ? ' (read-only)' : '');
+  const file = document.getElementById('file');
+  file.textContent = studio.design.name + (studio.design.read_only ? ' (read-only)' : '');
+  file.title = studio.design.label;
   document.querySelector('[data-action="save"]').disabled = studio.design.read_only;
   for (const [list, names] of [['law-names', studio.design.laws],
                                ['parameter-names', Object.keys(studio.design.parameters)]]) {
