@@ -1,4 +1,5 @@
-"""A real cam_node engages onto a 600 rpm master without a step and drives cam switches."""
+"""A real cam_node: ~/engage false stops its line shaft on the cam, ~/engage true catches up with
+a 600 rpm master without a step, and the cam switches switch at their angles."""
 from __future__ import annotations
 
 import math
@@ -6,7 +7,7 @@ import time
 
 import numpy as np
 from conftest import CONFIG_DIR
-from ecam_support import ecam_design, engage, master_message, MasterLink, RPM, WAIT_S
+from ecam_support import ecam_design, engage, master_message, MasterLink, RPM, stamp_of, WAIT_S
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from std_msgs.msg import UInt32
 from test_ecam import reference
@@ -21,53 +22,52 @@ SWITCHES = ('-p', 'switches.names:=[glue]', '-p', 'switches.on_deg:=[40.0]', '-p
             'switches.off_deg:=[100.0]', '-p', 'switches.lead_time:=[0.002]')
 
 
-def test_ramp_engage_onto_600_rpm_and_switch_edges_at_their_angles(start_cam_node, executor):
+def test_disengaged_it_rests_and_engaged_it_catches_up_with_600_rpm_without_a_step(
+        start_cam_node, executor):
     process, _ = start_cam_node(DEFAULT, '-p', 'master.source:=topic', '-p',
                                 'master.timeout:=30.0', *SWITCHES)
     design = ecam_design(DEFAULT)
     link = MasterLink(executor)
     switches = Inbox(link.node, UInt32, '/cam/switches',
-                     QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+                     QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL))
     link.connect(process)
     answer = engage(executor, False)
     assert answer.success and answer.message.startswith('disengaged')
     held = link.messages('commands')[-1].data[0]
-    t = DT * np.arange(250)  # one second at 600 rpm: ten turns
+    t = DT * np.arange(1000)  # four seconds at 600 rpm: 40 turns
     q = 2.0 + SPEED * t
     stream = [master_message(START_NS + round(ti * 1e9), position=(qi,))
               for ti, qi in zip(t.tolist(), q.tolist())]
-    before = len(link.messages('commands'))
     link.send(stream[:50])
-    assert [m.data[0] for m in link.messages('commands')[before:]] == [held] * 50
+    _, resting = link.answered(stream[:50])
+    assert {answer.position[1] for answer in resting} == {held}  # at rest on the cam
     assert engage(executor, True).success
     link.send(stream[50:])
-    commands = np.array([m.data[0] for m in link.messages('commands')[before + 50:]])
-    joints = link.messages('joints')[-200:]
-    q_run = q[50:]
-    exact, cam_velocity = reference(design, q_run, SPEED)
-    assert commands[0] == held  # the blend starts where the slave holds: no step
-    # The quintic blend written out: held + b(u) (cam - held), u the master travel / distance.
-    u = np.minimum((q_run - q_run[0]) / DISTANCE, 1.0)
-    b, db = 10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5, 30 * u ** 2 * (1 - u) ** 2
-    np.testing.assert_allclose(commands, held + b * (exact - held), rtol=0, atol=1e-12)
-    follower_velocity = np.array([m.velocity[1] for m in joints])
-    np.testing.assert_allclose(follower_velocity, b * cam_velocity + db / DISTANCE * (
-        exact - held) * SPEED, rtol=1e-6, atol=1e-9)
-    assert follower_velocity[0] == 0.0
-    speeds = np.array([m.velocity[0] for m in joints])
-    steady = np.arange(speeds.size) >= 3
-    np.testing.assert_allclose(speeds[steady], SPEED, rtol=1e-9)  # exact at constant speed
-    # Switches: the glue track is on where the cam angle + lead * speed is in [40, 100) deg.
-    phase = np.degrees(q + 0.002 * SPEED) % 360.0
+    sent, answers = link.answered(stream[50:])
+    positions = np.array([answer.position[1] for answer in answers])
+    # No step: the line shaft starts from rest, within the stop over 30 deg of master travel
+    # from cam speed (the design has no slave limits): its first move is a tiny one.
+    assert abs(positions[0] - held) < 1e-6
+    # Caught up: the commands are the cam at the master's positions again, exactly.
+    at = np.array([stamp_of(message) for message in sent])
+    locked = at >= START_NS + round(2.5e9)
+    exact, cam_velocity = reference(design, np.array([m.position[0] for m in sent]), SPEED)
+    np.testing.assert_allclose(positions[locked], exact[locked], rtol=0, atol=1e-12)
+    velocity = np.array([answer.velocity[1] for answer in answers])
+    np.testing.assert_allclose(velocity[locked], cam_velocity[locked], rtol=1e-6, atol=1e-9)
+    master = link.diagnostics('cam: master', lambda v: v['line_shaft'] == 'locked')
+    assert float(master['lag_deg']) == 0.0 and int(master['filtered_steps']) > 10
+    # Switches: the glue track is on where the cam angle + lead * speed is in [40, 100) deg;
+    # the last edges are those of the locked stretch.
+    phase = np.degrees(q[-375:] + 0.002 * SPEED) % 360.0
     expected = ((phase >= 40.0) & (phase < 100.0)).astype(int)
     changes = expected[np.flatnonzero(np.diff(expected)) + 1].tolist()
-    assert len(changes) == 2 * 10
+    assert len(changes) >= 2 * 14
     deadline = time.monotonic() + WAIT_S  # until the last edge has arrived (or the deadline)
     while ([m.data for m in switches.messages][-len(changes):] != changes
            and time.monotonic() < deadline):
         time.sleep(0.05)
-    words = [m.data for m in switches.messages]
-    assert words[-len(changes):] == changes
+    assert [m.data for m in switches.messages][-len(changes):] == changes
     state = link.diagnostics('cam: engagement', lambda v: v['message'] == 'engaged')
     assert state['switches'] in ('0', '1') and state['engage_mode'] == 'ramp'
     assert process.process.poll() is None

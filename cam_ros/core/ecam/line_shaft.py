@@ -34,8 +34,9 @@ from .path_limits import PathLimits
 CHASE = 0.5
 #: Gain of the approach near the master, per substep: the lag falls by this fraction a step.
 GAIN = 0.25
-#: theta_v moves in substeps of at most SUBSTEP s and SUBSTEP_TRAVEL grid cells of travel.
-SUBSTEP, SUBSTEP_TRAVEL = 1e-3, 2.0
+#: theta_v moves in substeps of at most SUBSTEP s and SUBSTEP_TRAVEL grid cells of travel, over
+#: at most LONGEST_STEP s of a step (a node's clock steps it every few ms).
+SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 1e-3, 2.0, 0.25
 #: Why theta_v is halted (the first three are said in ~/state and the diagnostics).
 LOST, DISENGAGED, INACTIVE = 'master lost', 'disengaged', 'inactive'
 #: What theta_v does.
@@ -171,16 +172,20 @@ class LineShaft:
                                  target.theta - state.theta)
             return self.state
         self.locked = False
+        if not self.following and state.omega == 0.0:  # at rest: it stays
+            self.state = Virtual(stamp_ns, state.theta, 0.0, 0.0, 0.0)
+            return self.state
         self.filtered += 1
         self._wrap_lag(state, target)
         theta, omega = state.theta, state.omega
         fastest = max(abs(omega), abs(target.omega), 1e-9)
         cell = self.limits.cycle / len(self.limits.theta)
-        count = math.ceil(dt / min(SUBSTEP, SUBSTEP_TRAVEL * cell / fastest))
-        h = dt / count
+        moving = min(dt, LONGEST_STEP)  # a master that jumps in time: at most this much
+        count = math.ceil(moving / min(SUBSTEP, SUBSTEP_TRAVEL * cell / fastest))
+        h = moving / count
         for left in range(count, 0, -1):
-            theta, omega = self._substep(theta, omega, h, target, left * h)
-        self.state = Virtual(stamp_ns, theta, omega, (omega - state.omega) / dt,
+            theta, omega = self._substep(theta, omega, h, target, left * h + dt - moving)
+        self.state = Virtual(stamp_ns, theta, omega, (omega - state.omega) / moving,
                              theta - state.theta)
         return self.state
 
