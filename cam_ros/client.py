@@ -43,6 +43,9 @@ CLIENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=REPLY_DEPTH,
 #: Angles per call: the node's default output.max_batch.
 CHUNK_SIZE = SPECS['output.max_batch'].default
 SPIN_SLICE_S = 0.05  # spin_once slice when the client spins the node itself
+#: Between looks at the graph while waiting for a service (rclpy's wait_for_service: 0.25 s,
+#: a quarter of a command line's round trip).
+GRAPH_POLL_S = 0.005
 SIMILAR_NAMES = 5  # most similar names an error lists
 #: The per-angle arrays of an answer (kinematics, and dynamics when the design has them).
 FIELDS = tuple(name for name, kind in EvaluateCam.Response.get_fields_and_field_types().items()
@@ -63,6 +66,15 @@ def missing(node: Node, kind: str, name: str) -> str:
     domain = node.context.get_domain_id()
     return (f' (ROS_DOMAIN_ID={domain}; similar {kind}s available: '
             f'{", ".join(similar) or "none discovered yet"})')
+
+
+def wait_for_service(client: Any, deadline: float) -> bool:
+    """Wait until the rclpy client sees its service, or the time.monotonic() deadline passes."""
+    while not client.service_is_ready():
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(min(GRAPH_POLL_S, max(0.0, deadline - time.monotonic())))
+    return True
 
 
 class CamClientError(RuntimeError):
@@ -114,7 +126,7 @@ class CamClient:
         request = EvaluateCam.Request(angles=angles.tolist())
         for _ in range(retries + 1):
             deadline = time.monotonic() + timeout
-            if not self._wait_for_service(deadline):
+            if not wait_for_service(self.client, deadline):
                 continue
             response = self._wait(self.client.call_async(request), deadline)
             if response is None:
@@ -128,13 +140,6 @@ class CamClient:
         hint = '' if ready else missing(self.node, 'service', self.service)
         raise CamClientError(f'service {self.service} {problem} within {timeout:g} s{attempts}'
                              f'{hint}')
-
-    def _wait_for_service(self, deadline: float) -> bool:
-        while not self.client.service_is_ready():
-            if time.monotonic() >= deadline:
-                return False
-            time.sleep(min(SPIN_SLICE_S, max(0.0, deadline - time.monotonic())))
-        return True
 
     def _wait(self, future: Any, deadline: float) -> EvaluateCam.Response | None:
         """Return the future's response by the deadline, else withdraw the request."""

@@ -20,7 +20,7 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from cam_ros.client import CamClient, CamClientError, missing
+from cam_ros.client import CamClient, CamClientError, GRAPH_POLL_S, missing, wait_for_service
 from cam_ros.commands.common import dump_json, DYNAMICS_FIELDS, format_table, number, say
 from cam_ros.commands.message_text import message_text, numeric_fields
 from cam_ros.core import InvalidParameter
@@ -67,7 +67,7 @@ def request_once(node: Node, executor: SingleThreadedExecutor, service_type: Any
     """
     client = node.create_client(service_type, name)
     try:
-        if not client.wait_for_service(timeout_sec=_remaining(deadline)):
+        if not wait_for_service(client, deadline):
             return None, (f'service {client.srv_name} is not available within {timeout:g} s'
                           + missing(node, 'service', client.srv_name))
         future = client.call_async(request)
@@ -172,7 +172,7 @@ def _subscribe(node: Node, name: str, callback: Any, deadline: float) -> bool:
     while not (publishers := node.get_publishers_info_by_topic(name)):
         if time.monotonic() >= deadline:
             return False
-        time.sleep(POLL_S)
+        time.sleep(GRAPH_POLL_S)
     types = sorted({info.topic_type for info in publishers})
     if len(types) != 1:
         raise InvalidParameter('TOPIC', name, f'has several types ({", ".join(types)})')

@@ -1,4 +1,6 @@
-"""cam_node: everything that runs the cam design on rclpy (node, parameters, recording, master)."""
-from .process import main
+"""cam_node: everything that runs the cam design on rclpy (node, parameters, recording, master).
 
-__all__ = ['main']
+Its process is cam_ros.node.process (`python -m cam_ros.node`, the cam_node script). Nothing is
+imported here: the `cam_ros` commands take cam_ros.node.middleware alone, without the node, its
+recorder and their libraries (twice the command's start-up, and a slower exit).
+"""

@@ -14,7 +14,8 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from cam_ros.core import CamError
-from cam_ros.node.middleware import PROFILE_VARIABLES, serve_over_udp, use_shipped_profile
+from cam_ros.node.middleware import (ANNOUNCEMENT_PERIOD_S, PROFILE_VARIABLES, serve_over_udp,
+                                     use_shipped_profile)
 from cam_ros.paths import fastdds_profile_path
 
 from .conftest import DEFAULT
@@ -115,6 +116,9 @@ def udp_only(path: str) -> ET.Element:
         assert ET.tostring(profiles[kind]) == ET.tostring(shipped[kind])
     participant = profiles['participant']
     assert participant.findtext(f'.//{NAMESPACE}useBuiltinTransports') == 'false'
+    # The node announces itself every 0.25 s, not every 3 s (a newcomer that missed its answer)
+    announcement = participant.find(f'.//{NAMESPACE}discovery_config/{NAMESPACE}leaseAnnouncement')
+    assert duration_ns(announcement) == 250_000_000 == round(ANNOUNCEMENT_PERIOD_S * 1e9)
     used = [element.text for element in participant.iter(f'{NAMESPACE}transport_id')]
     kinds = {descriptor.findtext(f'{NAMESPACE}transport_id'):
              descriptor.findtext(f'{NAMESPACE}type')
@@ -172,8 +176,9 @@ def test_other_ranges_keep_their_discovery_and_lose_shared_memory(profile_folder
         serve_over_udp(environ)
         assert environ == dict(given, FASTRTPS_DEFAULT_PROFILES_FILE=environ[
             'FASTRTPS_DEFAULT_PROFILES_FILE'])  # rmw_fastrtps applies range and peers itself
-        assert udp_only(environ['FASTRTPS_DEFAULT_PROFILES_FILE']).find(
-            f'.//{NAMESPACE}builtin') is None
+        builtin = udp_only(environ['FASTRTPS_DEFAULT_PROFILES_FILE']).find(
+            f'.//{NAMESPACE}builtin')
+        assert [element.tag for element in builtin] == [f'{NAMESPACE}discovery_config']
 
 
 def test_a_chosen_profile_keeps_shared_memory_and_a_bad_peer_is_named(profile_folder):
