@@ -1,5 +1,5 @@
 """
-Take the master axis's messages on a thread of their own, the newest as soon as it arrives.
+Take the master axis's messages on a thread of their own as they arrive, skipping a backlog.
 
 Also the conversions every e-cam endpoint shares: stamps in ns, the WIRING parameters a running
 node refuses to change.
@@ -22,6 +22,8 @@ from cam_ros.node.own_thread import OwnThread
 #: Best effort: it matches a best-effort master (the sensor-data QoS many drivers publish with)
 #: and a reliable one alike; a reliable subscription would never hear the former.
 MASTER_QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
+#: A master message waiting this long behind a newer one is a backlog: skipped (s).
+LATE_S = 0.01
 #: Parameters that wire the node to the graph: fixed once the node runs (an axis's
 #: <axis>.slave.state_topic too).
 WIRING = ('master.source', 'master.topic', 'master.joint', 'slave.state_topic')
@@ -50,16 +52,17 @@ def refuse_rewiring(node: Node) -> None:
 def master_intake(node: Node, topic: str, callback: Callable[[JointState, int, int], None]
                   ) -> OwnThread[Subscription]:
     """
-    Take master messages on a thread of their own, the newest of those waiting each time.
+    Take master messages on a thread of their own, skipping a backlog.
 
     The node's executor rebuilds a wait set of all its services, timers and subscriptions for
     every message; this thread waits on the master subscription alone, so a busy node adds no
     latency between master and command. A node held up skips the backlog: callback(message,
-    arrival ns, skipped count) gets only the newest message, so it never commands late.
-    Callbacks run on this thread; OwnThread.stop() ends it.
+    arrival ns, skipped count) gets the newest message and those that arrived within LATE_S
+    before it, so it never commands late. Callbacks run on this thread; OwnThread.stop() ends
+    it.
     """
     # No QoS event handlers (see TakenByIntake): best effort, volatile, no deadline and
     # automatic liveliness, MASTER_QOS matches every publisher, so none would ever fire.
     return OwnThread.newest(
-        node, JointState, topic, callback, MASTER_QOS, 'master',
+        node, JointState, topic, callback, MASTER_QOS, 'master', int(LATE_S * 1e9),
         event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False))

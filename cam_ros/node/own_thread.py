@@ -68,20 +68,27 @@ class OwnThread(Generic[Entity]):
     @staticmethod
     def newest(node: Node, msg_type: Any, topic: str,
                callback: Callable[[Any, int, int], None], qos: QoSProfile, name: str,
-               **options: Any) -> OwnThread[Subscription]:
-        """Subscribe as subscription() does, but take every message waiting and hand on only the
-        newest: callback(message, its arrival (ns, the middleware's reception stamp), how many
-        older ones were skipped). A set-point stream so never goes stale behind a backlog."""
+               late_ns: int, **options: Any) -> OwnThread[Subscription]:
+        """Subscribe as subscription() does, but take every message waiting and hand on, in
+        order, those that arrived within late_ns before the newest and the newest:
+        callback(message, its arrival (ns, the middleware's reception stamp), how many older
+        ones were skipped before it). A set-point stream so never goes stale behind a backlog."""
         subscription = node.create_subscription(msg_type, topic, lambda _: None, qos,
                                                 callback_group=TakenByIntake(), **options)
 
         def take_newest() -> bool:
-            newest, skipped = None, -1
+            waiting = []
             while (taken := subscription.handle.take_message(msg_type, subscription.raw)):
-                newest, skipped = taken, skipped + 1
-            if newest is None:
+                waiting.append((taken[0], int(taken[1]['received_timestamp'])))
+            if not waiting:
                 return False
-            callback(newest[0], int(newest[1]['received_timestamp']), skipped)
+            newest = waiting[-1][1]
+            fresh = [(message, arrived) for message, arrived in waiting
+                     if newest - arrived <= late_ns]
+            skipped = len(waiting) - len(fresh)
+            for message, arrived in fresh:
+                callback(message, arrived, skipped)
+                skipped = 0
             return True
         return OwnThread(node, subscription, take_newest, name)
 

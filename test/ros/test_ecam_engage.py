@@ -56,7 +56,7 @@ def test_disengaged_it_rests_and_engaged_it_catches_up_with_600_rpm_without_a_st
     velocity = np.array([answer.velocity[1] for answer in answers])
     np.testing.assert_allclose(velocity[locked], cam_velocity[locked], rtol=1e-6, atol=1e-9)
     master = link.diagnostics('cam: master', lambda v: v['line_shaft'] == 'locked')
-    assert float(master['lag_deg']) == 0.0 and int(master['filtered_steps']) > 10
+    assert float(master['lag_deg']) == 0.0 and int(master['filtered_steps']) > 0
     # Switches: the glue track is on where the cam angle + lead * speed is in [40, 100) deg;
     # the last edges are those of the locked stretch.
     phase = np.degrees(q[-375:] + 0.002 * SPEED) % 360.0

@@ -79,6 +79,7 @@ class LineShaft:
         self.locked = False  # theta_v is the master
         self._target: Optional[_Target] = None
         self._resync = False  # the next master sample sets shift again
+        self._own = 0.0  # the master's own limit (path_limits.master_limit) during a stop
 
     # What it does --------------------------------------------------------------------------
     @property
@@ -107,6 +108,8 @@ class LineShaft:
 
     def halt(self, why: str) -> None:
         """Stop theta_v within every limit, on the path, and rest (a synchronized stop)."""
+        if not self.why and self.state is not None:
+            self._own = self.limits.master_limit(self.state.omega)
         self.why = self.why or why
 
     def follow(self) -> None:
@@ -120,9 +123,11 @@ class LineShaft:
 
     def master(self, sample: MasterState) -> Virtual:
         """Step theta_v to a master sample; return theta_v there."""
-        target = self._target
+        target, state = self._target, self.state
         if target is None or self._resync:
             self._set_shift(sample.track)
+            if state is not None and state.omega == 0.0:  # at rest: on the master's clock now
+                self.state = state._replace(stamp_ns=sample.stamp_ns, step=0.0)
         self._target = _Target(sample.track + self.shift, sample.omega, sample.alpha,
                                sample.stamp_ns)
         return self._step(sample.stamp_ns)
@@ -197,7 +202,8 @@ class LineShaft:
         lower, upper = limits.band(theta, omega)
         if lower > upper:  # at a joint where the bands part: the middle of the two
             lower = upper = 0.5 * (lower + upper)
-        own = limits.master_limit(omega)
+        own = limits.master_limit(max(abs(omega), abs(target.omega))) if self.following \
+            else self._own
         lower, upper = max(lower, -own), min(upper, own)
         if self.following:
             alpha = self._chase(theta, omega, h, target.theta - target.omega * before,

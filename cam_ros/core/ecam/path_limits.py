@@ -23,10 +23,11 @@ points), around the cycle until it repeats; online it is read, the lower of the 
 grid values (the safe side). Every limit is taken MARGIN below its value: the grid's
 collocation and a controller stepping in time both stay inside.
 
-Without any acceleration limit a stop would take one message; then stops and catch-ups of the
-master are limited to the acceleration that stops its speed (at least the speed at cam_speed)
-over master.engage_distance_deg of travel, the travel of an engagement ramp (master_limit); a
-master followed is not limited.
+Without any acceleration limit a stop would take one message; then a stop of the master is
+limited to the deceleration that stops its speed as the stop begins (at least the speed at
+cam_speed) over master.engage_distance_deg of travel, the travel of an engagement ramp, and a
+catch-up likewise at the faster of the master and the virtual master (master_limit); a master
+followed is not limited.
 """
 from __future__ import annotations
 
@@ -187,10 +188,12 @@ class PathLimits:
         from the grid, on the safe side over the grid points around theta and travel (rad) on
         (the master's own limit is not in it: it bounds stops, not a master followed)."""
         found, s = self.bands, omega * omega
-        span = self._span(theta, travel)
+        span, count = self._span(theta, travel), len(self.theta)
         cells: slice | np.ndarray = span
-        if span.stop > len(self.theta) + 1:
-            cells = np.arange(span.start, span.stop) % len(self.theta)
+        if span.stop - span.start > count:  # a cycle or more: every point
+            cells = slice(None)
+        elif span.stop > count + 1:
+            cells = np.arange(span.start, span.stop) % count
         lower = found.lower0[:, cells] + found.lower1[:, cells] * s
         upper = found.upper0[:, cells] + found.upper1[:, cells] * s
         return float(lower.max()), float(upper.min())
