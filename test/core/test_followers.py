@@ -5,6 +5,8 @@ test_geometry.py.
 """
 import math
 
+import numpy as np
+
 from cam_ros.core.errors import InvalidParameter
 from cam_ros.core.geometry.followers import (OscillatingFlat, OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
@@ -53,3 +55,20 @@ def test_oscillating_flat_face_starts_tangent_to_the_base_circle(face):
     foot = (-face * normal[0], 0.09 - face * normal[1])  # face_offset from the pivot, cam side
     assert foot[0] * normal[0] + foot[1] * normal[1] == pytest.approx(0.04, rel=1e-14)
     assert 0.0 < psi0 < math.pi / 2
+
+
+@pytest.mark.parametrize('with_cam', [True, False])
+def test_an_oscillating_flat_arm_must_turn_slower_than_the_cam_and_keep_its_face_clear(with_cam):
+    """1 - mu ds/dtheta > 0 (mu = +1 when the arm turns with the cam, -1 against it), and the
+    face clear of the cam centre: pivot_distance sin(psi0 + s) > face_offset."""
+    arm = OscillatingFlat(0.03, 0.09, 0.02, with_cam)
+    mu = 1.0 if with_cam else -1.0
+    s = np.zeros(3)
+    assert arm._motion_problem(s, mu * np.array([0.0, 0.99, -5.0])) is None
+    problem = arm._motion_problem(s, mu * np.array([0.0, 1.0, -5.0]))
+    assert problem.parameter == 'ds[1]' and '1 - mu*ds/dtheta > 0' in problem.rule
+    psi0 = math.asin(0.05 / 0.09)
+    clear = math.asin(0.02 / 0.09) - psi0  # s where the face reaches the cam centre
+    assert arm._motion_problem(np.array([0.0, clear + 1e-6]), np.zeros(2)) is None
+    problem = arm._motion_problem(np.array([0.0, clear - 1e-6]), np.zeros(2))
+    assert problem.parameter == 's[1]' and 'face must stay clear of the cam centre' in problem.rule
