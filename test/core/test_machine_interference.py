@@ -11,6 +11,7 @@ from scipy.optimize import brentq, minimize_scalar
 from cam_ros.core.config.params_file import read_parameters_file
 from cam_ros.core.machine import (build_machine, check_interference, load_machine,
                                   machine_report, parse_machine)
+from cam_ros.core.machine.interference import zone_margin
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
 MACHINE = read_parameters_file(CONFIG_DIR / 'machine.yaml')
@@ -141,3 +142,46 @@ def test_overlapping_zones_report_minus_the_overlap():
 def test_zones_never_entered_or_never_left(zone_a, value, ok):
     zones = check_interference(machine_with(interference__zone_a=[0.0, zone_a]))[1]
     assert zones.value == value and zones.ok is ok
+
+
+def longest_common_run(arcs_a, arcs_b):
+    """Return (length, start) of the longest stretch inside an arc of both, on SCAN."""
+    def inside(arcs):
+        mask = np.zeros(SCAN.size, dtype=bool)
+        for start, length in zip(*arcs):
+            mask |= np.mod(SCAN - start, TWO_PI) < length
+        return mask
+    both = inside(arcs_a) & inside(arcs_b)
+    first_out = int(np.argmin(both))  # unroll the turn from an angle outside the overlap
+    rolled = np.roll(both, -first_out).astype(int)
+    edges = np.diff(np.concatenate(([0], rolled, [0])))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    longest = int(np.argmax(ends - starts))
+    return (ends - starts)[longest] * STEP, SCAN[(starts[longest] + first_out) % SCAN.size]
+
+
+@pytest.mark.parametrize('arcs_a, arcs_b', [
+    (((10.0, 200.0), (50.0, 60.0)), ((40.0, 230.0), (30.0, 100.0))),  # the longer one second
+    (((350.0,), (40.0,)), ((0.0, 300.0), (20.0, 10.0))),  # across the cycle start
+    (((100.0, 5.0), (50.0, 10.0)), ((80.0,), (40.0,))),  # b entered before a
+], ids=['two overlaps', 'across 0', 'b first'])
+def test_the_zone_margin_of_overlapping_arcs_is_minus_the_longest_overlap(arcs_a, arcs_b):
+    arcs_a, arcs_b = (tuple(np.radians(np.array(part)) for part in arcs)
+                      for arcs in (arcs_a, arcs_b))
+    length, start = longest_common_run(arcs_a, arcs_b)
+    margin, at = zone_margin(arcs_a, arcs_b)
+    assert margin == pytest.approx(-length, abs=2 * STEP)
+    assert at == pytest.approx(start, abs=2 * STEP)
+
+
+def test_an_axis_always_in_its_zone_collides_where_the_other_enters():
+    always, once = (np.zeros(1), np.full(1, TWO_PI)), (np.radians([40.0]), np.radians([30.0]))
+    assert zone_margin(always, once) == (-math.inf, pytest.approx(math.radians(40.0)))
+    assert zone_margin(once, always) == (-math.inf, pytest.approx(math.radians(40.0)))
+
+
+def test_each_check_names_its_pair_in_the_files_order():
+    machine = load_machine(CONFIG_DIR / 'machine.yaml')
+    checks = check_interference(machine)
+    assert [check.pair for check in checks] == list(machine.config.interference)
+    assert [check.pair.type for check in checks] == ['clearance', 'zones']
