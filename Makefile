@@ -8,7 +8,7 @@ IFACE_BUILD := $(VENV)/build/cam_ros_interfaces
 CONFIG ?= config/default.yaml
 PYTEST_ARGS ?=
 
-.PHONY: setup run test lint bench docs lock clean
+.PHONY: setup run test lint bench docs lock clean mutate
 
 # Only when there is something to build: check the system first (tools/preflight.sh, with the
 # venv's Python once there is one), so a missing tool stops the set-up within seconds, before the
@@ -52,6 +52,16 @@ test: setup
 
 bench: setup
 	$(PY) -m benchmarks
+
+# Mutation testing (mutmut, configured in setup.cfg [mutmut]): not part of `make test`. A clean
+# run each time (mutmut copies the project into mutants/). MUTANTS picks the mutants by name: by
+# default every one numbered ...0 or ...5 (one in five, as docs/reliability.md reports);
+# MUTANTS='*' runs all of them (hours on two cores).
+MUTANTS ?= cam_ros.core.*__mutmut_*[05]
+mutate: setup
+	rm -rf mutants
+	nice -n 15 $(VENV)/bin/mutmut run --max-children 2 '$(MUTANTS)'
+	$(VENV)/bin/mutmut results
 
 # The documentation site (docs/: Sphinx with MyST Markdown, as rosdoc2 builds it); warnings are
 # errors. `make test` builds it too (test/docs/test_build.py).
