@@ -7,7 +7,8 @@ import time
 import numpy as np
 import pytest
 from conftest import CONFIG_DIR
-from ecam_support import ecam_design, master_message, MasterLink, phases_profile, RPM, stamp_of
+from ecam_support import (ecam_design, master_message, MasterLink, phases_profile, RPM, stamp_of,
+                          StateWatch, WAIT_S)
 from rclpy.parameter import Parameter
 from test_node import set_parameters
 
@@ -18,7 +19,7 @@ TOPIC_MODE = ('-p', 'master.source:=topic')
 MAPPING = {'master.offset_deg': 30.0, 'master.scaling': 2.0, 'slave.offset': 0.5,
            'slave.scaling': -1.0}
 START_NS = 1_000 * 10 ** 9  # stamps of the master's run start here (any origin works)
-DT = 0.002  # s between master messages
+DT = 0.004  # s between master messages (250 Hz: a loaded machine's node keeps up)
 
 
 def ros_args(values: dict) -> list[str]:
@@ -38,6 +39,29 @@ def reference(design, q, omega):
             slave_scaling * values.ds * np.asarray(omega) / scaling)
 
 
+def outputs(link) -> dict:
+    """Return how many commands and joint states arrived so far (before a run)."""
+    return {key: len(link.messages(key)) for key in ('commands', 'joints')}
+
+
+def stepped(link, before: dict, messages) -> tuple[list, list, list]:
+    """Return the messages the node answered, their joint states and their commands, by stamp.
+
+    Every line shaft step sends one ~/commands and one ~/joint_states, in order; only the joint
+    states carry a stamp: the commands are paired with them by their order since before.
+    """
+    sent, answers = link.answered(messages)
+    deadline = time.monotonic() + WAIT_S
+    while True:
+        joints, commands = (link.messages(key)[before[key]:] for key in ('joints', 'commands'))
+        if len(joints) == len(commands):
+            break
+        assert time.monotonic() < deadline, f'{len(commands)} commands, {len(joints)} joints'
+        time.sleep(0.01)
+    index = {stamp_of(joint): k for k, joint in enumerate(joints)}
+    return sent, answers, [commands[index[stamp_of(answer)]] for answer in answers]
+
+
 def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_node, executor):
     process, _ = start_cam_node(DEFAULT, *TOPIC_MODE, *ros_args(MAPPING), '-p',
                                 'master.timeout:=10.0')
@@ -55,15 +79,22 @@ def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_no
                                (1.0, speed) if given else ())
                 for stamp, position, speed, given in zip(stamps.tolist(), q.tolist(),
                                                          omega.tolist(), with_velocity.tolist())]
-    before = len(link.messages('commands'))
+    before = outputs(link)
     link.send(messages)
-    commands = np.array([m.data[0] for m in link.messages('commands')[before:]])
+    sent, joints, commands = stepped(link, before, messages)
+    taken = np.isin(stamps, [stamp_of(m) for m in sent])  # the node skips a backlog
+    # Estimated speeds are exact once the window's samples (master.velocity_window 0.02 s: this
+    # one and those up to 18 ms before) lie in one constant-acceleration phase.
+    back = round(0.018 / DT)
+    same_phase = np.zeros_like(with_velocity)
+    same_phase[back:] = phase[back:] == phase[:-back]
+    q, omega, with_velocity, same_phase, stamps = (
+        array[taken] for array in (q, omega, with_velocity, same_phase, stamps))
     position, velocity = reference(design, q, omega)
-    assert commands.size == len(messages)
-    np.testing.assert_allclose(commands, position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose([m.data[0] for m in commands], position, rtol=0, atol=1e-12)
 
-    joints = [m for m in link.messages('joints') if stamp_of(m) >= START_NS]
-    assert [stamp_of(m) for m in joints] == stamps.tolist()  # same stamp as the master
+    later = [stamp_of(m) for m in link.messages('joints') if stamp_of(m) >= START_NS]
+    assert later == stamps.tolist()  # same stamp as the master, and no step of its own
     assert all(m.name == ['cam', 'follower'] for m in joints)
     np.testing.assert_array_equal([m.position[0] for m in joints], q)  # the master as given
     np.testing.assert_array_equal([m.velocity[0] for m in joints][:10], omega[:10])
@@ -71,14 +102,9 @@ def test_commands_follow_a_ramp_stop_reversal_and_multi_turn_master(start_cam_no
     follower_velocity = np.array([m.velocity[1] for m in joints])
     np.testing.assert_allclose(follower_velocity[with_velocity], velocity[with_velocity],
                                rtol=1e-12, atol=1e-15)
-    # Estimated speeds are exact once the window's samples (master.velocity_window 0.02 s: this
-    # one and the nine before) lie in one constant-acceleration phase.
-    back = 9
-    same_phase = np.zeros_like(with_velocity)
-    same_phase[back:] = phase[back:] == phase[:-back]
     estimated = ~with_velocity & same_phase
     estimated[np.flatnonzero(~with_velocity)[:2]] = False
-    assert estimated.sum() > 300
+    assert estimated.sum() > 100
     np.testing.assert_allclose(follower_velocity[estimated], velocity[estimated], rtol=1e-6,
                                atol=1e-9)
     assert process.process.poll() is None
@@ -92,13 +118,22 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
                                 'master.engage_mode:=immediate')  # back on the cam at once
     design = ecam_design(DEFAULT)
     link = MasterLink(executor)
+    states = StateWatch(link)
     link.connect(process)
     good = [master_message(START_NS + k * 10 ** 7, position=(1.9 + 0.2 * k,), velocity=(20.0,))
             for k in range(5)]
+    origin = time.monotonic()
+
+    def now_ns() -> int:
+        """The master's clock now: stamps sent later are after the node's own steps'."""
+        return START_NS + round((time.monotonic() - origin) * 1e9)
+
+    before = outputs(link)
     link.send(good)
-    commands = [m.data[0] for m in link.messages('commands')[-5:]]
-    np.testing.assert_allclose(commands, reference(design, [1.9 + 0.2 * k for k in range(5)],
-                                                   20.0)[1], rtol=1e-12)
+    sent, _, commands = stepped(link, before, good)
+    np.testing.assert_allclose([m.data[0] for m in commands],
+                               reference(design, [m.position[0] for m in sent], 20.0)[1],
+                               rtol=1e-12)
     link.inbox['trajectories'].wait(len(link.messages('commands')))
     last = link.messages('trajectories')[-1]
     times = np.array([p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec
@@ -111,7 +146,7 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
     assert last.joint_names == ['follower'] and all(len(p.accelerations) == 1
                                                     for p in last.points)
 
-    stamp = START_NS + 10 ** 8
+    stamp = now_ns() + 10 ** 7
     bad = [master_message(stamp, names=('other',), position=(1.0,)),
            master_message(stamp + 1, position=(math.nan,)),
            master_message(stamp + 2, position=(math.inf,)),
@@ -122,9 +157,13 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
            master_message(START_NS, position=(1.0,)),  # backwards
            master_message(START_NS + 4 * 10 ** 7, position=(1.0,))]  # equal to the last
     link.send(bad, answered=False)
-    link.send([master_message(stamp + 7, position=(3.0,), velocity=(30.0,))])  # too fast
-    assert link.messages('commands')[-1].data[0] == reference(design, 3.0, 30.0)[1]
-    probes = len([m for m in link.messages('joints') if stamp_of(m) < START_NS])
+    fast = [master_message(stamp + 7, position=(3.0,), velocity=(30.0,))]  # too fast
+    before = outputs(link)
+    link.send(fast)
+    assert stepped(link, before, fast)[2][0].data[0] == reference(design, 3.0, 30.0)[1]
+    # The probes' stamps count up from 1 ns; the node's own steps while they are silent come
+    # 0.1 s (master.timeout / 10) of silence later.
+    probes = len([m for m in link.messages('joints') if stamp_of(m) < 10 ** 8])
     master = link.diagnostics('cam: master', lambda v: v['accepted'] == str(6 + probes)
                               and v['dropped'] == '9')
     assert master['message'].endswith(', over master.max_speed')  # ok or already stale
@@ -135,25 +174,33 @@ def test_bad_master_messages_are_dropped_counted_and_never_commanded(start_cam_n
     assert master['dropped: stamp not after the previous'] == '2'
     assert process.process.poll() is None
 
-    # Master loss: one hold command (velocity 0), zero speeds, then the master comes back.
-    count, joints, plans = (len(link.messages(key))
-                            for key in ('commands', 'joints', 'trajectories'))
-    link.inbox['commands'].wait(count + 1)
-    hold = link.messages('commands')[count]
-    assert list(hold.data) == [0.0]
-    assert list(link.inbox['joints'].wait(joints + 1)[-1].velocity) == [0.0, 0.0]
-    held = link.inbox['trajectories'].wait(plans + 1)[-1]
-    assert len(held.points) == 1 and list(held.points[0].velocities) == [0.0]
+    # Master loss: the line shaft stops on the cam (no limits: over master.engage_distance_deg
+    # from its speed), never in one message; at rest nothing more is sent.
+    count = len(link.messages('commands'))
     lost = link.diagnostics('cam: master', lambda v: v['message'] == 'lost')
     assert lost['level'] == b'\x02'
+    states.wait('at rest: master lost')
+    time.sleep(0.2)
+    stop = link.messages('commands')[count:]
+    assert len(stop) > 2 and list(stop[-1].data) == [0.0]
+    assert list(link.messages('joints')[-1].velocity) == [0.0, 0.0]
+    held = link.messages('trajectories')[-1]
+    assert all(list(point.velocities) == [0.0] for point in held.points)
+    assert 'stopping: master lost' in [m.message for m in states.inbox.messages]
+    rested = len(link.messages('commands'))
     time.sleep(1.0)
-    assert len(link.messages('commands')) == count + 1  # said once
-    link.send([master_message(stamp + 10 ** 9, position=(2.5,), velocity=(-5.0,))])
-    assert link.messages('commands')[-1].data[0] == reference(design, 2.5, -5.0)[1]
-    for k in range(1, 16):  # keep the master alive past a diagnostics period
-        link.send([master_message(stamp + 10 ** 9 + k * 10 ** 8, position=(2.5 - 0.5 * k,),
-                                  velocity=(-5.0,))])
-        time.sleep(0.1)
+    assert len(link.messages('commands')) == rested  # at rest: said once
+    # The master comes back at 10 rad/s: the line shaft catches up with it, then follows it
+    # exactly again.
+    back = [master_message(now_ns() + 10 ** 7 + k * 10 ** 7, position=(2.5 + 0.1 * k,),
+                           velocity=(10.0,)) for k in range(160)]
+    before = outputs(link)
+    link.send(back)
+    sent, _, commands = stepped(link, before, back)
+    assert len(sent) >= 50
+    np.testing.assert_allclose([m.data[0] for m in commands[-50:]],
+                               reference(design, [m.position[0] for m in sent[-50:]], 10.0)[1],
+                               rtol=0, atol=1e-12)  # m/s: the cam's turns added back
     link.diagnostics('cam: master', lambda v: v['message'] == 'ok')
     log = process.log()
     assert 'master silent for 1 s' in log and 'master lost -> ok' in log
@@ -187,24 +234,31 @@ def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_no
     link.connect(process)
     speed, step = 20.0, 0.1  # rad/s, rad per message
     q = 1.0 + step * np.arange(120)  # over 1.2 turns from 57 deg
-    messages = [master_message(START_NS + round(k * step / speed * 1e9), position=(angle,),
-                               velocity=(speed,)) for k, angle in enumerate(q.tolist())]
-    first = len(link.messages('commands'))
-    link.send(messages[:20])  # now in the rise (up to 166 deg)
+    stamps = START_NS + np.round(np.arange(q.size) * step / speed * 1e9).astype(np.int64)
+    first = outputs(link)
+    link.send([master_message(stamp, position=(angle,), velocity=(speed,))
+               for stamp, angle in zip(stamps[:20].tolist(), q[:20].tolist())])  # in the rise
+    sent = time.monotonic()
     result = set_parameters(executor, [Parameter(name, value=value)
                                        for name, value in rise.items()])
     assert result.successful, result.reason
+    # The master stood while the parameters were set: its stamps go on after as much time.
+    stamps[20:] += round((time.monotonic() - sent) * 1e9)
+    messages = [master_message(stamp, position=(angle,), velocity=(speed,))
+                for stamp, angle in zip(stamps.tolist(), q.tolist())]
     link.send(messages[20:])
-    commands = np.array([m.data[0] for m in link.messages('commands')[first:]])
+    answered, _, commands = stepped(link, first, messages)
+    q = q[np.isin(stamps, [stamp_of(m) for m in answered])]
+    commands = np.array([m.data[0] for m in commands])
     by_old, by_new = reference(old, q, speed)[0], reference(new, q, speed)[0]
     from_old = np.abs(commands - by_old) <= 1e-12
     from_new = np.abs(commands - by_new) <= 1e-12
     assert (from_old | from_new).all()
     old_only = np.flatnonzero(from_old & ~from_new)
     new_only = np.flatnonzero(from_new & ~from_old)
-    # The old cam rules on after the change (in the rise, where the cams differ by up to 1 cm)
-    # and through the return; the new one from the common dwell at 0-90 deg on.
-    assert old_only[-1] > 20 and 240.0 < np.degrees(q[old_only[-1]]) % 360.0 < 360.0
+    # The old cam rules on after the change (in the rise up to 166 deg, where the cams differ
+    # by up to 1 cm) and through the return; the new one from the common dwell at 0-90 deg on.
+    assert 240.0 < np.degrees(q[old_only[-1]]) < 360.0
     assert new_only[0] > old_only[-1] and from_new[new_only[0]:].all()
     assert 90.0 < np.degrees(q[new_only[0]]) % 360.0 < 100.0
     assert from_old[:new_only[0]].all()
