@@ -34,9 +34,10 @@ from .path_limits import PathLimits
 CHASE = 0.5
 #: Gain of the approach near the master, per substep: the lag falls by this fraction a step.
 GAIN = 0.25
-#: theta_v moves in substeps of at most SUBSTEP s and SUBSTEP_TRAVEL grid cells of travel, over
-#: at most LONGEST_STEP s of a step (a node's clock steps it every few ms).
-SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 1e-3, 2.0, 0.25
+#: theta_v moves in substeps of at most SUBSTEP s and SUBSTEP_TRAVEL grid cells of travel (the
+#: band taken on the safe side over a substep's travel), over at most LONGEST_STEP s of a step
+#: (a node's clock steps it every few ms).
+SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 2e-3, 8.0, 0.25
 #: Why theta_v is halted (the first three are said in ~/state and the diagnostics).
 LOST, DISENGAGED, INACTIVE = 'master lost', 'disengaged', 'inactive'
 #: What theta_v does.
@@ -134,11 +135,12 @@ class LineShaft:
 
     def tick(self, stamp_ns: int) -> Optional[Virtual]:
         """Step theta_v to a time with no master sample: the master is extrapolated at its
-        last speed while followed; None before any master sample."""
+        last speed while followed (not before a sample after follow() or origin(): theta_v
+        waits for one); None before any master sample."""
         target = self._target
         if target is None or self.state is None:
             return None
-        if stamp_ns <= self.state.stamp_ns:
+        if stamp_ns <= self.state.stamp_ns or self._resync:
             return self.state
         if self.following:
             elapsed = (stamp_ns - target.stamp_ns) * 1e-9
@@ -199,7 +201,7 @@ class LineShaft:
         """Move theta_v over h: toward the target (as it was `before` s before its stamp, at the
         substep's start) or, halted, to rest; return its position and speed."""
         limits = self.limits
-        lower, upper = limits.band(theta, omega)
+        lower, upper = limits.band(theta, omega, omega * h)
         if lower > upper:  # at a joint where the bands part: the middle of the two
             lower = upper = 0.5 * (lower + upper)
         own = limits.master_limit(max(abs(omega), abs(target.omega))) if self.following \
@@ -231,8 +233,11 @@ class LineShaft:
         closing = max(-abs(lag) / h, min(closing, abs(lag) / h))
         ahead = (abs(omega) + abs(closing)) * h
         limits = self.limits
-        wanted = min(speed + closing, limits.stoppable(theta, 1.0, ahead))
-        wanted = max(wanted, 0.0 if self.one_way else -limits.stoppable(theta, -1.0, ahead))
+        wanted = speed + closing
+        if wanted > 0.0:
+            wanted = min(wanted, limits.stoppable(theta, 1.0, ahead))
+        else:
+            wanted = 0.0 if self.one_way else max(wanted, -limits.stoppable(theta, -1.0, ahead))
         return min(max((wanted - omega) / h, lower), upper)
 
     def _near(self, state: Virtual, target: _Target, dt: float, share: float) -> bool:

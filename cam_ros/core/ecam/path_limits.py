@@ -134,8 +134,10 @@ class PathLimits:
            nominal_speed: float, engage_distance: float) -> 'PathLimits':
         """Compute the limits of axes on cams with their limits (the braking curve: once)."""
         keep = 1.0 - MARGIN
-        velocity = np.array([lim.max_velocity * keep or np.inf for lim in limits])
-        acceleration = np.array([lim.max_acceleration * keep or np.inf for lim in limits])
+        velocity = np.array([lim.max_velocity * keep if lim.max_velocity else np.inf
+                             for lim in limits])  # 0: none; any positive limit is one
+        acceleration = np.array([lim.max_acceleration * keep if lim.max_acceleration else np.inf
+                                 for lim in limits])
         master = np.inf
         if not np.isfinite(acceleration).any():
             master = nominal_speed * nominal_speed / (2.0 * engage_distance) * keep
