@@ -1,9 +1,10 @@
 """A real machine node watches its axes: ~/controller_state, the following-error fault, recovery.
 
 A drive simulated here reports every axis of config/machine.yaml one master message late (a
-lag: the last command before the message), stamped with the master message it answers; then the pusher (feeder) stalls. For every
-report, ~/controller_state's reference is the node's command at that stamp (read from its
-~/joint_states) and its error the reference less the report, to 1e-12. The fault fires at the
+lag: the last command before the message), stamped with the master message it answers; then the
+pusher (feeder) stalls. For every report of a message the node followed, ~/controller_state's
+reference is the node's command at that stamp (read from its ~/joint_states) and its error the
+reference less the report, to 1e-12. The fault fires at the
 first report whose error has stayed over the limit for slave.following_error_time, not before;
 it is said once. The line shaft then stops every axis on its cam (no stop in one message);
 ~/engage true is refused while the pusher's error is over its limit, accepted once the drive has
