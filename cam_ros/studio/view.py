@@ -10,6 +10,7 @@ writer. Here they are only put into units the page draws in (the file's) and int
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from typing import Any, Mapping
 
 import numpy as np
@@ -32,6 +33,9 @@ TIMING_SAMPLES = 721
 #: unbounded), as `cam_ros plot` does.
 RADIUS_CAP = 10.0
 MM_PER_M = 1000.0
+#: Axes' checks remembered (see axis_checks): a few edits' worth of a large machine.
+REMEMBERED_CHECKS = 1024
+_CHECKS: OrderedDict[tuple, tuple[bool, list[str]]] = OrderedDict()
 
 
 def design_view(values: Mapping[str, Any], axis: str | None = None) -> dict[str, Any]:
@@ -44,34 +48,75 @@ def design_view(values: Mapping[str, Any], axis: str | None = None) -> dict[str,
     names = machine.config.names
     shown = machine.axes[names.index(axis) if axis in names else 0]
     checks = check_interference(machine)
+    judged = axis_checks(machine, values, single)
     view: dict[str, Any] = {
         'machine': not single,
         'axes': list(names),
         'axis': None if single else shown.name,
         'curves': curves(shown.design),
         'drawing': drawing(shown.design),
-        'checks': [{'axis': None if single else item.name, 'ok': item.design.ok,
-                    'warnings': list(item.design.warnings())} for item in machine.axes],
+        'checks': [{'axis': None if single else item.name, 'ok': ok, 'warnings': warnings}
+                   for item, (ok, warnings) in zip(machine.axes, judged)],
         'pairs': [pair_view(machine, check) for check in checks],
-        'verdict': verdict_line(machine, checks, single),
-        'ok': all(item.design.ok for item in machine.axes) and all(c.ok for c in checks),
+        'verdict': verdict_line(machine, judged, checks, single),
+        'ok': all(ok for ok, _ in judged) and all(c.ok for c in checks),
     }
     if not single:
         view['timing'] = timing(machine, checks)
-    return plain(view)
+    return json_ready(view)
 
 
-def verdict_line(machine: Machine, checks: tuple, single: bool) -> str:
+def json_ready(value: Any) -> Any:
+    """Return value as JSON-ready data: arrays as lists, a non-finite float as None.
+
+    As commands.common.plain, with a float array turned into a list in one pass (the page's
+    curves are most of an answer).
+    """
+    if isinstance(value, np.ndarray) and value.dtype.kind == 'f':
+        return [x if math.isfinite(x) else None for x in value.tolist()]
+    if isinstance(value, dict):
+        return {str(key): json_ready(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(item) for item in value]
+    return plain(value)
+
+
+def axis_checks(machine: Machine, values: Mapping[str, Any],
+                single: bool) -> list[tuple[bool, list[str]]]:
+    """Return each axis's CamDesign.ok and warnings, remembered for the values they depend on.
+
+    An axis's checks depend on its own values and the machine-wide ones only, so an edit of
+    one axis of a machine asks the core again about that axis alone.
+    """
+    names = machine.config.names
+    shared = () if single else tuple(sorted(
+        (key, repr(value)) for key, value in values.items() if key.split('.')[0] not in names))
+    judged = []
+    for axis in machine.axes:
+        own = tuple(sorted((key, repr(value)) for key, value in values.items()
+                           if single or key.startswith(f'{axis.name}.')))
+        key = (axis.name, own, shared)
+        if key not in _CHECKS:
+            _CHECKS[key] = (axis.design.ok, list(axis.design.warnings()))
+            while len(_CHECKS) > REMEMBERED_CHECKS:
+                _CHECKS.popitem(last=False)
+        _CHECKS.move_to_end(key)
+        judged.append(_CHECKS[key])
+    return judged
+
+
+def verdict_line(machine: Machine, judged: list[tuple[bool, list[str]]], checks: tuple,
+                 single: bool) -> str:
     """Return the verdict: it ends in 'meets its limits' or names what fails.
 
     A single cam's is `cam_ros report`'s verdict line, with its warnings when it fails.
     """
     if single:
-        design = machine.axes[0].design
-        return ('Verdict: meets its limits' if design.ok else
-                'Verdict: VIOLATES its limits: ' + '; '.join(design.warnings()))
-    failing = [f'axis {item.name} violates its limits' for item in machine.axes
-               if not item.design.ok]
+        ok, warnings = judged[0]
+        return ('Verdict: meets its limits' if ok else
+                'Verdict: VIOLATES its limits: ' + '; '.join(warnings))
+    failing = [f'axis {item.name} violates its limits'
+               for item, (ok, _) in zip(machine.axes, judged) if not ok]
     failing += [f'{pair_name(check)} COLLIDES' for check in checks if not check.ok]
     return ('Verdict: ' + '; '.join(failing) if failing else
             'Verdict: no pair collides, every axis meets its limits')

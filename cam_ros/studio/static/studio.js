@@ -39,11 +39,28 @@ function valueAt(key) {
   return match ? studio.values[match[1]][Number(match[2])] : studio.values[key];
 }
 
+function shape(values) {
+  return JSON.stringify(Object.entries(values).map(([key, value]) =>
+    [key, Array.isArray(value) ? value.length : -1]));
+}
+
+// Show the values in the fields: rebuilt when keys or lengths changed, else only refilled.
+function refresh(before) {
+  if (before !== shape(studio.values)) { render(); return; }
+  for (const box of document.querySelectorAll('input[data-key]')) {
+    const value = valueAt(box.dataset.key);
+    if (box.value !== value) box.value = value;
+  }
+  document.querySelector('[data-action="undo"]').disabled = !studio.undo.length;
+  document.querySelector('[data-action="redo"]').disabled = !studio.redo.length;
+}
+
 function edit(change) {
+  const before = shape(studio.values);
   studio.undo.push(clone(studio.values));
   studio.redo = [];
   change(studio.values);
-  render();
+  refresh(before);
   update();
 }
 
@@ -291,9 +308,19 @@ function draw(view) {
   for (const pair of view.pairs) {
     pairs.append(element('li', {'data-pair': pair.pair, class: pair.ok ? '' : 'fails'}, pair.line));
   }
-  drawCurves(view.curves);
-  drawDrawing(view.drawing);
-  drawTiming(view);
+  changed('curves', view.curves) && drawCurves(view.curves);
+  changed('drawing', [view.drawing, studio.angle]) && drawDrawing(view.drawing);
+  changed('timing', [view.timing, view.pairs]) && drawTiming(view);
+}
+
+const drawn = {};
+
+// Say whether a plot's data differ from what it shows (then remember them).
+function changed(plot, data) {
+  const text = JSON.stringify(data);
+  if (drawn[plot] === text) return false;
+  drawn[plot] = text;
+  return true;
 }
 
 const CONFIG = {responsive: true, displaylogo: false};
@@ -483,9 +510,10 @@ async function download() {
 
 function step(from, to) {
   if (!from.length) return;
+  const before = shape(studio.values);
   to.push(clone(studio.values));
   studio.values = from.pop();
-  render();
+  refresh(before);
   update();
 }
 
