@@ -116,7 +116,7 @@ class MasterFollower:
         self._arrived_ns = 0  # when the newest master message arrived (node clock)
         self._interval_ns = 0  # the master's last stamp interval
         self._skipped = 0  # master messages skipped behind a newer one
-        self._rested = False  # the line shaft's rest was sent
+        self._rested = True  # the line shaft's rest was sent (or nothing moved yet)
         self._topics = CommandTopics(node, self._axes, joint_pub, self._config)
         self._diagnostics_pub = publisher(node, DiagnosticArray, '/diagnostics', COMMAND_QOS)
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
