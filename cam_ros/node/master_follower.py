@@ -194,8 +194,9 @@ class MasterFollower:
             self._axes.interfaces = _interfaces(axes)
             if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
-            self._last_handover = by_axis([name for name, _ in said],
-                                          [told for _, told in said]) or 'no axis changed'
+            self._last_handover = '; '.join(
+                told if len(self._axes) == 1 else f'{name}: {told}' for name, told in said
+            ) or 'no axis changed'
             last = tracker.last
             self._changes += 1
             self._changed_after = None if last is None else last.stamp_ns
