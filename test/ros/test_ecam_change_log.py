@@ -32,20 +32,23 @@ def test_pending_is_said_before_applied_even_when_the_master_applies_it_at_once(
         def still(k: int) -> JointState:  # a master standing at 1 rad: any change is due
             return master_message(now + k * 10 ** 6, position=(1.0,), velocity=(0.0,))
 
+        def take(k: int) -> None:  # the intake's call: the message, when it arrived, 0 skipped
+            follower._on_master(still(k), node.get_clock().now().nanoseconds, 0)
+
         def log(message: str, **kwargs: object) -> bool:
             if message.startswith('design change pending'):
-                racer = threading.Thread(target=follower._on_master, args=(still(3),))
+                racer = threading.Thread(target=take, args=(3,))
                 racer.start()
                 racer.join(RACE_S)
             said.append(message)
             return info(message, **kwargs)
 
         for k in range(2):
-            follower._on_master(still(k))
+            take(k)
         logger.info = log
         changed = ecam_design(DEFAULT, **MASTER, **RISE)  # both dwell at 1 rad
         follower.change([(FOLLOWER_JOINT, changed)], changed.config.parameters)
-        follower._on_master(still(4))
+        take(4)
     finally:
         follower.stop()
     changes = [message for message in said if message.startswith('design change')]
