@@ -1,7 +1,8 @@
 """What the page shows of a design's values: curves, checks and the verdict, from the core.
 
 A single cam is a machine of one axis (the core's machine_from_values, as cam_node serves it),
-so one path serves both. Every number comes from the core: the motion and geometry from
+so one path serves both; memory.py keeps the core's answers about axes and pairs an edit left
+alone. Every number comes from the core: the motion and geometry from
 CamDesign.evaluate and CamDesign.geometry, the verdict from CamDesign.ok and warnings, a
 machine's pairs from check_interference (refined figures, their lines as `cam_ros report`
 prints them) and the timing diagram's curves and shaded spans from the CLI's timing-diagram
@@ -10,7 +11,6 @@ writer. Here they are only put into units the page draws in (the file's) and int
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
 from typing import Any, Mapping
 
 import numpy as np
@@ -19,9 +19,10 @@ from cam_ros.commands.common import plain
 from cam_ros.core import CamDesign
 from cam_ros.core.cam_angles import TWO_PI
 from cam_ros.core.config.parameters import UNITS
-from cam_ros.core.machine import check_interference, is_machine, Machine
-from cam_ros.core.machine.served import machine_from_values, pair_line, pair_name
+from cam_ros.core.machine import is_machine, Machine
+from cam_ros.core.machine.served import pair_line, pair_name
 from cam_ros.output.timing_diagram import checked_positions, conflict_spans, machine_angles
+from cam_ros.studio.memory import machine_and_checks
 
 #: Cam angles of the S-V-A-J, pressure-angle and curvature curves: every 0.5 deg.
 CURVE_SAMPLES = 721
@@ -33,9 +34,6 @@ TIMING_SAMPLES = 721
 #: unbounded), as `cam_ros plot` does.
 RADIUS_CAP = 10.0
 MM_PER_M = 1000.0
-#: Axes' checks remembered (see axis_checks): a few edits' worth of a large machine.
-REMEMBERED_CHECKS = 1024
-_CHECKS: OrderedDict[tuple, tuple[bool, list[str]]] = OrderedDict()
 
 
 def design_view(values: Mapping[str, Any], axis: str | None = None) -> dict[str, Any]:
@@ -43,12 +41,11 @@ def design_view(values: Mapping[str, Any], axis: str | None = None) -> dict[str,
 
     axis: the machine axis whose curves to include (default the first); a single cam has one.
     """
-    machine = machine_from_values(values)
+    machine, checks = machine_and_checks(values)
     single = not is_machine(values)
     names = machine.config.names
     shown = machine.axes[names.index(axis) if axis in names else 0]
-    checks = check_interference(machine)
-    judged = axis_checks(machine, values, single)
+    judged = [(item.design.ok, list(item.design.warnings())) for item in machine.axes]
     view: dict[str, Any] = {
         'machine': not single,
         'axes': list(names),
@@ -79,30 +76,6 @@ def json_ready(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [json_ready(item) for item in value]
     return plain(value)
-
-
-def axis_checks(machine: Machine, values: Mapping[str, Any],
-                single: bool) -> list[tuple[bool, list[str]]]:
-    """Return each axis's CamDesign.ok and warnings, remembered for the values they depend on.
-
-    An axis's checks depend on its own values and the machine-wide ones only, so an edit of
-    one axis of a machine asks the core again about that axis alone.
-    """
-    names = machine.config.names
-    shared = () if single else tuple(sorted(
-        (key, repr(value)) for key, value in values.items() if key.split('.')[0] not in names))
-    judged = []
-    for axis in machine.axes:
-        own = tuple(sorted((key, repr(value)) for key, value in values.items()
-                           if single or key.startswith(f'{axis.name}.')))
-        key = (axis.name, own, shared)
-        if key not in _CHECKS:
-            _CHECKS[key] = (axis.design.ok, list(axis.design.warnings()))
-            while len(_CHECKS) > REMEMBERED_CHECKS:
-                _CHECKS.popitem(last=False)
-        _CHECKS.move_to_end(key)
-        judged.append(_CHECKS[key])
-    return judged
 
 
 def verdict_line(machine: Machine, judged: list[tuple[bool, list[str]]], checks: tuple,
@@ -186,7 +159,7 @@ def timing(machine: Machine, checks: tuple) -> dict[str, Any]:
     """Return the timing diagram: each axis over the machine cycle and each pair's spans.
 
     Positions in each axis's file unit, a rotary axis modulo a turn, as the checks take it
-    (the CLI's timing diagram); spans where a pair collides or its margin is short.
+    (the CLI's timing diagram); spans where a colliding pair collides or its margin is short.
     """
     theta = machine_angles(machine, TIMING_SAMPLES)
     factors = np.array([axis.design.config.file_position_unit[1] for axis in machine.axes])
@@ -196,6 +169,6 @@ def timing(machine: Machine, checks: tuple) -> dict[str, Any]:
         'positions': {axis.name: positions[:, index] for index, axis in enumerate(machine.axes)},
         'units': {axis.name: axis.design.config.file_position_unit[0] for axis in machine.axes},
         'spans': {f'{check.pair.axis_a}-{check.pair.axis_b}':
-                  [list(span) for span in conflict_spans(machine, check, theta)]
-                  for check in checks},
+                  [] if check.ok else [list(s) for s in conflict_spans(machine, check, theta)]
+                  for check in checks},  # as the CLI's diagram, only a pair that collides
     }

@@ -1,0 +1,43 @@
+"""The studio's remembered answers are the core's for the values of each edit, bit for bit."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from studio_support import CONFIG_DIR
+
+from cam_ros.core import InvalidParameter, read_parameters_file
+from cam_ros.core.machine import check_interference
+from cam_ros.core.machine.served import machine_from_values
+from cam_ros.studio.memory import machine_and_checks
+
+#: Edits made one after the other: an axis's phase, a pair's limit, the machine's speed, back.
+EDITS = [('knife.master.offset_deg', 60.0), ('interference.min_clearance', [40.0, 0.0]),
+         ('cam_speed', 12.0), ('jaw.motion.end_position', [0.0, 70.0, 70.0, 0.0, 0.0]),
+         ('jaw.motion.start_position', [0.0, 0.0, 70.0, 70.0, 0.0]),
+         ('knife.master.offset_deg', 100.0), ('cam_speed', 10.471975511965978)]
+
+
+def test_each_edit_gets_the_cores_own_answers() -> None:
+    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
+    theta = np.linspace(0.0, 2.0 * np.pi, 997)
+    refused, collided = 0, 0
+    for key, value in EDITS:
+        values[key] = value
+        try:
+            fresh = machine_from_values(values)
+        except InvalidParameter as err:
+            with pytest.raises(InvalidParameter) as raised:
+                machine_and_checks(values)
+            assert str(raised.value) == str(err)
+            refused += 1
+            continue
+        machine, checks = machine_and_checks(values)
+        assert checks == check_interference(fresh)
+        collided += not all(check.ok for check in checks)
+        assert np.array_equal(machine.positions(theta), fresh.positions(theta))
+        for kept, built in zip(machine.axes, fresh.axes):
+            assert kept.design.ok == built.design.ok
+            assert kept.design.warnings() == built.design.warnings()
+            assert kept.design.config.cam_speed == built.design.config.cam_speed
+    assert (refused, collided) == (1, 2)  # the jaw's end alone; gap < 40 mm at 200 mm, 80 mm
