@@ -14,6 +14,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Sequence
 
+from benchmarks.cli import cli_figures, CliSizes
 from benchmarks.core import (core_figures, evaluate_figures, geometry_figures, loop_figure,
                              memory_figure, report_figure)
 from benchmarks.dynamics import evaluate_figure, vibration_figure
@@ -42,6 +43,7 @@ class Sizes:
     recording: RecordingSizes = field(default_factory=RecordingSizes)
     ecam: EcamSizes = field(default_factory=EcamSizes)
     machine: MachineSizes = field(default_factory=MachineSizes)
+    cli: CliSizes = field(default_factory=CliSizes)
 
 
 def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figure]:
@@ -60,6 +62,7 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
         figures.extend(recording_figures(graph, workdir, sizes.recording))
         figures.extend(ecam_figures(graph, sizes.ecam))
         figures.extend(machine_figures(graph, sizes.machine))
+        figures.extend(cli_figures(graph, sizes.cli))
     return figures
 
 

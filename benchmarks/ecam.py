@@ -101,10 +101,11 @@ class Side:
         """
         if not self.joints:
             return {round(deserialize_message(data, Float64MultiArray).data[0] / STEP_RAD):
-                    received for received, data in self.commands.values()}
+                    received for received, data in list(self.commands.values())}
         return {stamp_ns(deserialize_message(data, JointState).header.stamp) // 10 ** 6 - 1:
                 self.commands[number][0]
-                for number, data in self.joints.items() if number in self.commands}
+                for number, data in list(self.joints.items())  # still arriving
+                if number in self.commands}
 
 
 def master(k: int) -> JointState:

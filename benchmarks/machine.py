@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +23,7 @@ from typing import Any, Sequence
 
 from benchmarks.ecam import connect, run, Side, STEP_RAD, SWITCHES
 from benchmarks.report import Figure, markdown_table, Target
-from benchmarks.ros import DEFAULT_CONFIG, RosGraph, ServerProcess
+from benchmarks.ros import DEFAULT_CONFIG, measured_alone, RosGraph, ServerProcess
 from benchmarks.timing import cpu_seconds, interleaved_medians, percentile_ms
 from cam_ros.core import read_parameters_file
 from cam_ros.core.ecam.axes import SlaveAxes
@@ -166,9 +165,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument('--seconds', type=float, default=MachineSizes.seconds,
                         help='measured seconds per node (default: %(default)s)')
     options = parser.parse_args(argv)
-    with tempfile.TemporaryDirectory(prefix='cam_ros_machine_') as workdir:
-        with RosGraph(Path(workdir)) as graph:
-            figures = machine_figures(graph, MachineSizes(seconds=options.seconds))
+    figures = measured_alone('cam_ros_machine_', lambda graph: machine_figures(
+        graph, MachineSizes(seconds=options.seconds)))
     print(markdown_table(figure.as_json() for figure in figures))
     return 0
 

@@ -13,12 +13,13 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence, TypeVar
 
 import rclpy
 from domain_coordinator import domain_id
@@ -36,6 +37,7 @@ SERVICE_TIMEOUT_S = 60.0
 STOP_TIMEOUT_S = 10.0
 #: Poll period of the service discovery check (s); rclpy's wait_for_service sleeps 0.25 s.
 POLL_S = 0.002
+Result = TypeVar('Result')
 
 
 @dataclass
@@ -187,3 +189,10 @@ class RosGraph:
                 raise RuntimeError(f'{client.srv_name} not up after {timeout} s:\n'
                                    f'{process.log()}')
             time.sleep(POLL_S)
+
+
+def measured_alone(prefix: str, measure: Callable[[RosGraph], Result]) -> Result:
+    """Run measure in a graph of its own, its files in a temporary folder (a benchmark alone)."""
+    with tempfile.TemporaryDirectory(prefix=prefix) as workdir:
+        with RosGraph(Path(workdir)) as graph:
+            return measure(graph)

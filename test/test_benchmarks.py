@@ -6,6 +6,7 @@ import math
 from pathlib import Path
 
 from benchmarks.__main__ import benchmark, Sizes
+from benchmarks.cli import CliSizes
 from benchmarks.ecam import EcamSizes
 from benchmarks.machine import MachineSizes
 from benchmarks.recording import RecordingSizes
@@ -22,8 +23,11 @@ TINY = Sizes(
                              drop_rate_hz=500.0, drop_seconds=0.3),
     ecam=EcamSizes(seconds=0.5, warmup_seconds=0.2),
     machine=MachineSizes(axes=(1, 3), latency_axes=3, cpu_axes=3, seconds=0.3,
-                         warmup_seconds=0.1))
-FIGURES = {
+                         warmup_seconds=0.1),
+    cli=CliSizes(rounds=1))
+CLI_FIGURES = {'cli_call_s', 'cli_param_get_s', 'cli_param_set_s', 'cli_lifecycle_get_s',
+               'cli_lifecycle_set_s', 'cli_echo_once_s'}
+FIGURES = CLI_FIGURES | {
     'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
     'design_geometry_ms', 'design_evaluate_1000', 'design_evaluate_peak_memory_1000',
     'design_report_ms', 'design_evaluate_dynamics_ms',
@@ -37,7 +41,7 @@ FIGURES = {
 }
 FIGURE_FIELDS = {'key', 'name', 'value', 'unit', 'reference', 'reference_value', 'target', 'note',
                  'inverse', 'extra', 'ratio', 'met'}
-TARGETED = {'service_p50_ms', 'service_p99_ms', 'design_report_ms',
+TARGETED = {*CLI_FIGURES, 'service_p50_ms', 'service_p99_ms', 'design_report_ms',
             'design_evaluate_peak_memory_1000',
             'recorder_messages_per_s', 'recorder_written_at_500_hz',
             'recording_publish_overhead',

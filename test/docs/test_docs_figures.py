@@ -91,8 +91,21 @@ def middleware_quotes() -> list[str]:
     ]
 
 
+def cli_quotes() -> list[str]:
+    """Return the command line's round trips as docs/cli.md quotes them."""
+    f = figures('results')['figures']
+    rows = [figure for key, figure in f.items() if key.startswith('cli_')]
+    first = rows[0]
+    return [f"run of {first['extra']['date'][:10]} {first['extra']['date'][11:16]}",
+            f"a bare rclpy process making the same call {first['reference_value']:.2f} s",
+            f"`python -c pass` {first['extra']['python_s']:.2f} s",
+            *(f"`{row['name']}` {row['value']:.2f} s (slowest {row['extra']['max_s']:.2f} s)"
+              for row in rows)]
+
+
 @pytest.mark.parametrize('page, quotes', [('benchmarks.md', benchmark_quotes),
-                                          ('across-machines.md', middleware_quotes)])
+                                          ('across-machines.md', middleware_quotes),
+                                          ('cli.md', cli_quotes)])
 def test_quoted_measurements_match_their_results_file(page: str, quotes) -> None:
     text = re.sub(r'\s*\n\s*', ' ', (DOCS / page).read_text())  # quotes may wrap
     missing = [quote for quote in quotes() if re.sub(r'\s*\n\s*', ' ', quote) not in text]
