@@ -2,13 +2,15 @@
 The studio in a real browser: from an edit to the updated plots and verdict (issue 48).
 
 A studio serves the design in a thread; headless Chromium (Debian's, /usr/bin/chromium) loads
-the page. In the page, each edit types a new cam_speed (it changes every axis's velocity,
-acceleration, jerk and checks) and fires the field's change event, as a user's Enter does; the
-time runs until the page has drawn the answer (body[data-seq] moved on, state ready) and the
-browser has painted the next frame. Edits alternate between two speeds. The floor, measured
-the same way in the same page, is a round trip of GET /api/design and a painted frame: what any
-answer costs without the core. Designs: config/machine.yaml, and a 16-axis machine of
-config/default.yaml's cam with 15 clearance pairs between neighbours.
+the page. Two edits per design: a phase shift of the axis shown (`<axis>.master.offset_deg`:
+its coupling, the pairs and the timing diagram change) and cam_speed (every axis's velocity,
+acceleration, jerk and checks change). In the page, each edit types a value and fires the
+field's change event, as a user's Enter does; the time runs until the page has drawn the answer
+(body[data-seq] moved on, state ready) and the browser has painted the next frame. Every edit
+is to a value not given before, so the studio has no answer kept for it (studio/memory.py).
+The floor, measured the same way in the same page, is a round trip of GET /api/design and a
+painted frame: what any answer costs without the core. Designs: config/machine.yaml, and a
+16-axis machine of config/default.yaml's cam with 15 clearance pairs between neighbours.
 
 Run alone (not in `make bench`): ``.venv/bin/python -m benchmarks.studio``.
 """
@@ -36,16 +38,15 @@ CHROMIUM = '/usr/bin/chromium'
 MACHINE_TARGET, LARGE_TARGET = Target('<=', 100.0, on='value'), Target('<=', 250.0, on='value')
 LARGE_AXES = 16
 
-#: In the page: time `count` edits of key, each to the other of two values (and `count` floor
-#: round trips), in ms.
-TIME_EDITS = """async ([count, key, values]) => {
+#: In the page: time an edit of key to each of values (and as many floor round trips), in ms.
+TIME_EDITS = """async ([key, values]) => {
   const frame = () => new Promise(done => requestAnimationFrame(() => done()));
   const box = () => document.querySelector(`[data-key="${key}"]`);
   const edits = [], floor = [];
-  for (let i = 0; i < count; i++) {
+  for (const value of values) {
     const seq = Number(document.body.dataset.seq);
     const start = performance.now();
-    box().value = box().value === values[0] ? values[1] : values[0];
+    box().value = value;
     box().dispatchEvent(new Event('change'));
     while (!(Number(document.body.dataset.seq) > seq && document.body.dataset.state === 'ready')) {
       if (document.body.dataset.state === 'error') throw new Error('the edit was refused');
@@ -106,9 +107,11 @@ def time_edits(page: Any, path: Path, edits: Sequence[tuple[str, str]],
             page.wait_for_function(f"Number(document.body.dataset.seq) > {seq} && "
                                    "document.body.dataset.state === 'ready'")
             value = float(page.locator(f'[data-key="{key}"]').input_value())
-            values = [repr(value * 1.01 if key == 'cam_speed' else value + 1.0), repr(value)]
-            page.evaluate(TIME_EDITS, [sizes.warmup, key, values])
-            edit, floor = page.evaluate(TIME_EDITS, [sizes.edits, key, values])
+            values = [repr(value * (1.0 + 1e-3 * step) if key == 'cam_speed'
+                           else value + 0.5 * step)
+                      for step in range(1, sizes.warmup + sizes.edits + 1)]
+            page.evaluate(TIME_EDITS, [key, values[:sizes.warmup]])
+            edit, floor = page.evaluate(TIME_EDITS, [key, values[sizes.warmup:]])
             timed.append((np.asarray(edit), np.asarray(floor)))
     finally:
         server.should_exit = True
