@@ -1,7 +1,7 @@
 """Fixtures of the network tests: two hosts (namespaces + veth), nodes and clients on them.
 
 They need root, iproute2 (`ip`) and, for packet loss and dropped multicast, nftables (`nft`);
-without them the tests skip, saying which is missing.
+without them the tests skip, saying which is missing, and fail so under CI=true (prerequisites).
 """
 from __future__ import annotations
 
@@ -18,8 +18,9 @@ from typing import Iterator
 
 import pytest
 from conftest import CONFIG_DIR, NodeProcess
+from prerequisites import require
 
-from benchmarks.netns import Host, Link, missing_tool
+from benchmarks.netns import Host, Link
 
 CHILD = Path(__file__).with_name('children.py')
 DEFAULT = CONFIG_DIR / 'default.yaml'
@@ -136,12 +137,12 @@ def heavy(pytestconfig: pytest.Config) -> None:
 @pytest.fixture
 def link() -> Iterator[Link]:
     """Two fresh network namespaces joined by a veth link; always removed."""
-    if os.geteuid() != 0 or missing_tool('ip'):
-        pytest.skip('cannot create network namespaces: needs root and iproute2 (ip)')
+    require('root', 'network namespaces need it', present=os.geteuid() == 0)
+    require('ip', 'network namespaces and veth links (apt-get install iproute2)')
     try:
         created = Link()
     except OSError as err:
-        pytest.skip(f'cannot create network namespaces: {err}')
+        require('network namespaces', f'cannot create them: {err}', present=False)
     try:
         yield created
     finally:
@@ -150,10 +151,8 @@ def link() -> Iterator[Link]:
 
 @pytest.fixture
 def nft() -> None:
-    """Skip unless nftables is installed (packet loss and dropped multicast need it)."""
-    if missing_tool('nft'):
-        pytest.skip('nftables (nft) is not installed: needed for packet loss and dropped '
-                    'multicast')
+    """Require nftables (packet loss and dropped multicast need it)."""
+    require('nft', 'packet loss and dropped multicast (apt-get install nftables)')
 
 
 @pytest.fixture
