@@ -9,8 +9,10 @@ import math
 
 import numpy as np
 
-from cam_ros.core.ecam.motion_functions import motion_function, QUINTIC
+from cam_ros.core.ecam.motion_functions import LINE, motion_function, QUINTIC
+from cam_ros.core.motion.laws import make_law
 from cam_ros.core.motion.program import MotionProgram
+from cam_ros.core.motion.segment import Segment
 from cam_ros.core.motion.tasks import build_segments, TaskSpec
 
 K = math.pi / 180.0
@@ -56,3 +58,26 @@ def test_the_quintics_through_the_points_are_the_design_to_1e_12_of_the_stroke()
         values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
         np.testing.assert_allclose(quintic(x0, x1, *values, x), program.evaluate(x).s,
                                    rtol=0, atol=1e-12 * 360.0 * K)
+
+
+def test_a_design_of_dwells_and_trigonometric_laws_is_lines_and_quintic_pieces():
+    """Seed 000: the dwells are exact lines; the cycloidal rise and harmonic return become
+    quintic pieces, each within the tolerance of the design (2001 angles per interval)."""
+    rise, tolerance = 0.02, 1e-6
+    program = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * K, 0.0, 0.0),
+                             Segment(make_law('cycloidal'), 90 * K, 180 * K, 0.0, rise),
+                             Segment(make_law('dwell'), 180 * K, 240 * K, rise, rise),
+                             Segment(make_law('simple_harmonic'), 240 * K, 360 * K, rise, 0.0)))
+    function = motion_function(program, tolerance)
+    assert set(function.pieced) == {1, 3} and function.max_error <= tolerance
+    for i, (kind, owner) in enumerate(zip(function.kinds, function.owner)):
+        x0, x1 = function.angle[i:i + 2]
+        assert program.segment_at(0.5 * (x0 + x1)) == owner
+        assert (kind == LINE) == (owner in (0, 2))
+        x = np.linspace(x0, x1, 2001)
+        if kind == LINE:
+            fitted = np.interp(x, [x0, x1], function.s[i:i + 2])
+        else:
+            values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
+            fitted = quintic(x0, x1, *values, x)
+        assert np.abs(fitted - program.evaluate(x).s).max() <= tolerance
