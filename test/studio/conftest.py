@@ -7,7 +7,7 @@ from typing import Any, Iterator
 
 import pytest
 
-from studio_support import CONFIG_DIR, Studio
+from .studio_support import CONFIG_DIR, Studio
 
 from cam_ros.studio.document import DesignDocument
 from cam_ros.studio.server import run_in_thread

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio_support import cli, CONFIG_DIR, edited_file, Studio
+from .studio_support import cli, CONFIG_DIR, edited_file, Studio
 
 from cam_ros.core import read_parameters_file
 from cam_ros.output.cam_table_formats import FORMATS as TABLE_FORMATS

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio_support import cli, CONFIG_DIR, edited_file, REPO, Studio
+from .studio_support import cli, CONFIG_DIR, edited_file, REPO, Studio
 
 from cam_ros.core import read_parameters_file
 

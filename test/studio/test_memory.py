@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio_support import CONFIG_DIR
+from .studio_support import CONFIG_DIR
 
 from cam_ros.core import InvalidParameter, read_parameters_file
 from cam_ros.core.machine import check_interference
