@@ -41,7 +41,7 @@ STATIC = Path(__file__).resolve().parent / 'static'
 #: The page's own files, by the name the page asks for, and their media types.
 ASSETS = {'studio.js': 'text/javascript', 'studio.css': 'text/css',
           'plotly.min.js': 'text/javascript'}
-LOOPBACK_HOSTS = ('127.0.0.1', 'localhost', '[::1]', '::1')
+LOOPBACK_HOSTS = ('127.0.0.1', 'localhost', '::1')
 TOKEN_COOKIE = 'cam_ros_studio_token'
 #: The field an error names: a parameter's name with its index (`jaw.motion.end_deg[1]`).
 ERROR_KEY = re.compile(r'[A-Za-z_][\w.]*(\[\d+\])?')
@@ -89,9 +89,7 @@ class Guard:
     def refusal(self, request: Request) -> str | None:
         """Return why a request is refused, None to let it through."""
         if self.token is None:
-            host = request.headers.get('host', '').rsplit(':', 1)[0] \
-                if not request.headers.get('host', '').endswith(']') \
-                else request.headers.get('host', '')
+            host = request.url.hostname or ''  # from the Host header, IPv6 unbracketed
             if host not in LOOPBACK_HOSTS:
                 return f'cam_ros studio: host {host!r} refused: this studio serves 127.0.0.1 only'
         else:

@@ -112,6 +112,9 @@ def download(document: DesignDocument, values: Mapping[str, Any], kind: str,
         except InvalidParameter as err:  # named as the user knows it, not the scratch copy
             raise InvalidParameter(err.parameter, _named(err.value, folder, document),
                                    _named(err.rule, folder, document)) from err
+        if target.is_dir():  # a machine's cam tables: the CLI wrote one per axis
+            raise InvalidParameter('--axis', None, 'is needed: a machine\'s cam tables are '
+                                                   'one per axis')
         data = target.read_bytes()
     message = printed.getvalue().strip().replace(str(target), name)
     return Download(name, data, message)

@@ -198,6 +198,10 @@ def test_a_machines_downloads_are_the_files_the_cli_writes(studio: Studio,
         run = cli('export', studio.path, '-o', tmp_path / 'out.csv', *argv)
         assert answer.body == (tmp_path / 'out.csv').read_bytes()
         assert run.returncode == 0
+    whole = studio.post('api/export', {'values': texts, 'kind': 'cam-table', 'options': {}})
+    assert whole.status == 422  # the CLI writes a folder of tables: a download takes one axis
+    assert whole.json()['error']['key'] == '--axis'
+    assert sorted(path.name for path in studio.path.parent.iterdir()) == ['machine.yaml']
 
 
 @pytest.mark.parametrize('studio', ['default.yaml'], indirect=True)
