@@ -345,3 +345,19 @@ def test_invalid_eccentricity_names_the_parameter():
     with pytest.raises(InvalidParameter) as error:
         estimate_base_radius(0.02, 1.0, 2.0, 0.5, eccentricity_angle=math.pi / 2)
     assert error.value.parameter == 'eccentricity_angle'
+
+
+@pytest.mark.parametrize('rise_limit, return_limit', [(20 * DEG, 40 * DEG), (40 * DEG, 20 * DEG)],
+                         ids=['rise binds', 'return binds'])
+def test_separate_rise_and_return_limits_size_each_side_in_closed_form(
+        rise_limit, return_limit, clockwise):
+    """d >= |v - sigma e| / tan(phi_side) - s on each side (rise: ds >= 0, return: ds <= 0)."""
+    sigma, offset = (-1 if clockwise else 1), 0.004
+    s, ds, _ = LINEAR
+    limit = np.where(ds >= 0.0, math.tan(rise_limit), math.tan(return_limit))
+    height = np.max(np.abs(ds - sigma * offset) / limit - s)
+    sizing = size_base_radius(TranslatingRoller(0.03, 0.01, offset), THETA, *LINEAR,
+                              clockwise=clockwise, max_pressure_angle=rise_limit,
+                              max_pressure_angle_return=return_limit)
+    assert sizing.base_radius == pytest.approx(math.hypot(height, offset) - 0.01,
+                                               abs=CLOSED_FORM_TOL)
