@@ -122,13 +122,20 @@ class SlaveAxes:
         unless all have one."""
         if state.origin:
             self.shaft.origin()
-        return self._follow(self._virtual(state.position, self.shaft.master(state)))
+        return self._step(state.position, self.shaft.master(state))
 
     def tick(self, stamp_ns: int, position: float) -> Optional[Commands]:
         """Step the line shaft to a time (ns, the master's clock) without a master sample (at
         master position, for the joint states); return the commands, None before any."""
-        virtual = self.shaft.tick(stamp_ns)
-        return None if virtual is None else self._follow(self._virtual(position, virtual))
+        return self._step(position, self.shaft.tick(stamp_ns))
+
+    def _step(self, position: float, virtual: Optional[Virtual]) -> Optional[Commands]:
+        """Return the commands of a line shaft step; None if it did not step (a sample older
+        than the clock's last step, or a wait): the last commands stand."""
+        before = self.virtual
+        if virtual is None or before is not None and virtual.stamp_ns <= before.stamp_ns:
+            return None
+        return self._follow(self._virtual(position, virtual))
 
     @staticmethod
     def _virtual(position: float, virtual: Virtual) -> MasterState:

@@ -28,16 +28,19 @@ from dataclasses import dataclass
 from typing import NamedTuple, Optional
 
 from .master_tracker import MasterState
-from .path_limits import PathLimits
+from .path_limits import PathLimits, WINDOW
 
 #: A filtered theta_v approaches the master at this fraction of the admissible accelerations.
 CHASE = 0.5
+#: A filtered theta_v is never faster than this many times the faster of the master's speed
+#: and the speed at cam_speed (where the axes rest, their limits bound nothing).
+CATCH_UP = 3.0
 #: Gain of the approach near the master, per substep: the lag falls by this fraction a step.
 GAIN = 0.25
 #: theta_v moves in substeps of at most SUBSTEP s and SUBSTEP_TRAVEL grid cells of travel (the
 #: band taken on the safe side over a substep's travel), over at most LONGEST_STEP s of a step
 #: (a node's clock steps it every few ms).
-SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 2e-3, 8.0, 0.25
+SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 2e-3, WINDOW - 2.0, 0.25
 #: Why theta_v is halted (the first three are said in ~/state and the diagnostics).
 LOST, DISENGAGED, INACTIVE = 'master lost', 'disengaged', 'inactive'
 #: What theta_v does.
@@ -233,7 +236,8 @@ class LineShaft:
         closing = max(-abs(lag) / h, min(closing, abs(lag) / h))
         ahead = (abs(omega) + abs(closing)) * h
         limits = self.limits
-        wanted = speed + closing
+        fastest = CATCH_UP * max(abs(speed), self.limits.nominal_speed)
+        wanted = min(max(speed + closing, -fastest), fastest)
         if wanted > 0.0:
             wanted = min(wanted, limits.stoppable(theta, 1.0, ahead))
         else:
@@ -242,16 +246,20 @@ class LineShaft:
 
     def _near(self, state: Virtual, target: _Target, dt: float, share: float) -> bool:
         """Say whether theta_v may be the target after dt: within one step at share of the
-        axes' band (locking: CHASE of its narrower side; locked: 1, its wider side) of where
-        theta_v's own motion takes it. A lock so moves the commands as such a step would; a
-        master followed that jumps further is filtered."""
+        axes' band (locking: CHASE of its narrower side, and theta_v accelerating at no more than
+        the rest; locked: 1, its wider side) of where theta_v's own motion takes it. A lock so
+        moves the commands as such a step would; a master followed that jumps further is
+        filtered."""
         expected = state.theta + 0.5 * (state.omega + target.omega) * dt
         speed = max(abs(state.omega), abs(target.omega))
         lower, upper = self.limits.band(expected, speed, target.theta - expected)
         if share < 1.0:  # a lock ends a catch-up: as a catch-up, within the master's own limit
             lower, upper = (max(lower, -self.limits.master_limit(speed)),
                             min(upper, self.limits.master_limit(speed)))
-        rate = share * max(min(-lower, upper) if share < 1.0 else max(-lower, upper), 0.0)
+        band = max(min(-lower, upper) if share < 1.0 else max(-lower, upper), 0.0)
+        rate = share * band
+        if share < 1.0 and abs(state.alpha) > band - rate:  # a lock on top of a hard chase
+            return False
         return abs(target.theta - expected) <= 0.5 * rate * dt * dt and \
             abs(target.omega - state.omega) <= rate * dt
 

@@ -48,6 +48,10 @@ GRID = 4096
 MARGIN = 0.01
 #: How far either side of a segment joint its one-sided values are taken (rad of master).
 SIDE = 1e-9
+#: The braking curve holds for steps over up to WINDOW - 2 grid cells (line_shaft's substeps).
+WINDOW = 4
+#: A slope below this fraction of the axis's steepest counts as none (see bands).
+RESTING = 1e-12
 #: Backward passes around the cycle at most; the braking curve repeats after two for any cam
 #: whose stop takes less than a cycle, and only ever falls.
 PASSES = 8
@@ -95,7 +99,9 @@ def bands(slope: np.ndarray, curvature: np.ndarray, max_velocity: np.ndarray,
     max_velocity, max_acceleration: per axis (inf: none), already less the margin.
     """
     v, acc = max_velocity[:, np.newaxis], max_acceleration[:, np.newaxis]
-    moving = slope != 0.0
+    # A slope this small (relative to the axis's steepest) moves nothing however hard the
+    # master accelerates: the axis bounds only the speed there (1 / y' would overflow).
+    moving = np.abs(slope) > RESTING * np.abs(slope).max(axis=-1, keepdims=True)
     with np.errstate(divide='ignore', invalid='ignore'):
         inverse = np.where(moving, 1.0 / np.where(moving, slope, 1.0), 0.0)
         speed = np.where(moving, (v * inverse) ** 2, np.inf)
@@ -127,6 +133,7 @@ class PathLimits:
     backward: np.ndarray
     master_acceleration: float  # master_limit at the speed at cam_speed (inf: axes limit it)
     engage_distance: float
+    nominal_speed: float  # the master speed at cam_speed (rad/s)
     bands: Bands  # the axes' (not the master's own) at the grid points (the first again last)
 
     @classmethod
@@ -151,14 +158,14 @@ class PathLimits:
         ahead = _machine_bands(slope, curvature, velocity, acceleration, master)
         behind = _machine_bands(-slope[:, ::-1], curvature[:, ::-1], velocity, acceleration,
                                 master)
-        forward = _braking(ahead, np.diff(np.append(theta, cycle)))
-        backward = _braking(behind, np.append(-np.diff(theta[::-1]), theta[0] + cycle - theta[-1])
-                            )[::-1]
+        forward = _braking(_window(ahead), np.diff(np.append(theta, cycle)))
+        backward = _braking(_window(behind), np.append(
+            -np.diff(theta[::-1]), theta[0] + cycle - theta[-1]))[::-1]
         axes = bands(slope, curvature, velocity, acceleration)
         wrapped = Bands(*(np.concatenate([part, part[..., :1]], axis=-1) for part in (
             axes.lower0, axes.lower1, axes.upper0, axes.upper1, axes.cap)))
         return cls(tuple(cams), velocity, acceleration, cycle, theta, forward, backward, master,
-                   engage_distance, wrapped)
+                   engage_distance, nominal_speed, wrapped)
 
     def master_limit(self, omega: float) -> float:
         """Return the master's own acceleration limit in a stop or a catch-up at speed omega:
@@ -247,6 +254,15 @@ def _machine_bands(slope: np.ndarray, curvature: np.ndarray, max_velocity: np.nd
     zero = np.zeros_like(own)
     return Bands(np.vstack([found.lower0, -own]), np.vstack([found.lower1, zero]),
                  np.vstack([found.upper0, own]), np.vstack([found.upper1, zero]), found.cap)
+
+
+def _window(found: Bands) -> Bands:
+    """Return at each point the bands of it and the WINDOW - 1 points after it together: what
+    a step over up to WINDOW - 2 cells from there must keep (its speed cap included)."""
+    rows = [np.concatenate([np.roll(part, -shift, axis=1) for shift in range(WINDOW)])
+            for part in (found.lower0, found.lower1, found.upper0, found.upper1)]
+    cap = np.min([np.roll(found.cap, -shift) for shift in range(WINDOW)], axis=0)
+    return Bands(*rows, cap)
 
 
 def _braking(found: Bands, steps: np.ndarray) -> np.ndarray:
