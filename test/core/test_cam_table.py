@@ -96,7 +96,7 @@ def test_reported_error_matches_dense_brute_force(interpolation):
 @pytest.mark.parametrize('interpolation', ['linear', 'cubic', 'quintic'])
 def test_interpolate_is_the_interpolant_scipy_builds(interpolation):
     table = tolerance_table(SEED_000, 1e-5, interpolation)
-    theta = DENSE[::97]
+    theta = np.append(DENSE[::97], table.angle[-1])  # the table's last point too
     np.testing.assert_allclose(interpolate(table, theta), scipy_interpolant(table, theta),
                                rtol=0, atol=1e-15)
 

@@ -103,12 +103,14 @@ def test_parameters_convert_to_si(tmp_path):
     values = read_parameters_file(DEFAULT)  # length_unit cm
     values.update({'master.offset_deg': 90.0, 'master.scaling': 2.0, 'slave.offset': 1.5,
                    'slave.scaling': -1.0, 'master.source': 'topic', 'master.timeout': 0.2,
-                   'command.interface': 'velocity', 'command.trajectory_horizon': 0.05})
+                   'command.interface': 'velocity', 'command.trajectory_horizon': 0.05,
+                   'command.trajectory_points': 7})
     config = MasterConfig.from_config(parse_parameters(values))
     assert config.mapping == CamMapping(math.pi / 2, 2.0, pytest.approx(0.015), -1.0)
     assert (config.source, config.topic, config.joint) == ('topic', '~/master', 'cam')
     assert (config.timeout, config.interface, config.trajectory_horizon) == (0.2, 'velocity',
                                                                              0.05)
+    assert config.trajectory_points == 7
 
 
 def test_oscillating_slave_offset_is_in_degrees():

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from cam_ros.core.ecam.switches import SwitchTable, SwitchTracks
+from cam_ros.core.ecam.switches import switch_table, SwitchTable, SwitchTracks
 
 DEG = math.pi / 180
 #: glue: on 40-100 deg, lead 20 ms; mark: through 0 (350-10 deg); pulse: one degree wide.
@@ -70,3 +70,16 @@ def test_one_long_step_gives_the_words_of_many_short_ones(start, end, places):
     expected = [w for turn in steps for w in fine.update(turn, 0.0)]  # b off with d on at 35
     assert one_step.update(end, 0.0) == expected
     assert len(expected) == places
+
+
+@pytest.mark.parametrize('lead', [[0.01, 0.0, 0.25], []], ids=['leads', 'no leads'])
+def test_the_switches_parameters_become_a_table_in_si(lead):
+    table = switch_table({'switches.names': ['glue', 'mark', 'pulse'],
+                          'switches.on_deg': [40.0, 350.0, 200.0],
+                          'switches.off_deg': [90.0, 10.0, 200.5],
+                          'switches.lead_time': lead, 'switches.hysteresis_deg': 0.5})
+    assert table.names == ('glue', 'mark', 'pulse')
+    np.testing.assert_allclose(table.on, np.radians([40.0, 350.0, 200.0]), rtol=1e-15)
+    np.testing.assert_allclose(table.off, np.radians([90.0, 10.0, 200.5]), rtol=1e-15)
+    np.testing.assert_array_equal(table.lead_time, lead or [0.0, 0.0, 0.0])
+    assert table.hysteresis == pytest.approx(0.5 * math.pi / 180, rel=1e-15)
