@@ -5,11 +5,12 @@ For a single cam and for config/machine.yaml (every axis's command in each ~/com
 from __future__ import annotations
 
 import signal
+import time
 
 import numpy as np
 import pytest
 from conftest import CONFIG_DIR
-from ecam_support import master_message, MasterLink, stamp_of
+from ecam_support import master_message, MasterLink, stamp_of, WAIT_S
 from std_msgs.msg import Float64MultiArray
 from test_ecam import outputs, stepped
 
@@ -23,6 +24,19 @@ MACHINE_ARGS = ('-p', 'master.joint:=cam', '-p', 'master.timeout:=30.0', '-p',
                 'command.trajectory_horizon:=0.02')
 RECORDED = {'/cam/master', '/cam/commands', '/cam/joint_trajectory', '/cam/joint_states',
             '/diagnostics'}
+
+
+def settled(link, before: dict) -> tuple[list, list]:
+    """Wait until the node's outputs stop coming (0.5 s without one); return its joint states
+    and commands since before, one of each per step."""
+    deadline, count = time.monotonic() + WAIT_S, -1
+    while count != len(link.messages('joints')):
+        assert time.monotonic() < deadline
+        count = len(link.messages('joints'))
+        time.sleep(0.5)
+    joints, commands = (link.messages(key)[before[key]:] for key in ('joints', 'commands'))
+    assert len(joints) == len(commands)
+    return joints, commands
 
 
 @pytest.mark.parametrize('params, args, evaluate', [(DEFAULT, ECAM, 'evaluate'),
@@ -70,20 +84,24 @@ def test_a_recorded_master_stream_replayed_into_a_fresh_node_gives_the_same_comm
         again = outputs(fresh)
         count = player.play(rate=1.0)
     assert count == len(recorded['/cam/master'])
-    retaken, reanswers, recommands = stepped(fresh, again, stream)
+    reanswers, recommands = settled(fresh, again)  # the last message too may be lost
     assert all(isinstance(m, Float64MultiArray) for m in recommands)
-    # The messages both nodes took (each skips its own backlog, if any) give the same outputs.
+    # The messages both nodes took (each may skip a backlog or lose a message) give the same
+    # outputs where both took every message of the speed window (master.velocity_window 0.02 s)
+    # before them too: the same inputs.
     first_by_stamp = {stamp_of(m): (joint, command)
                       for m, joint, command in zip(taken, answers, commands)}
-    both = [(first_by_stamp[stamp_of(m)], (joint, command))
-            for m, joint, command in zip(retaken, reanswers, recommands)
-            if stamp_of(m) in first_by_stamp]
-    assert 2 * len(both) >= len(stream)
+    stamps = [stamp_of(m) for m in stream]
+    common = set(first_by_stamp) & {stamp_of(m) for m in reanswers}
+    same_window = {stamp for k, stamp in enumerate(stamps)
+                   if all(earlier in common for earlier in stamps[max(k - 3, 0):k + 1])}
+    both = [(first_by_stamp[stamp_of(joint)], (joint, command))
+            for joint, command in zip(reanswers, recommands) if stamp_of(joint) in same_window]
+    assert len(both) >= 20  # of 150: a loaded machine's nodes skip some, each its own
     for (joint, command), (rejoint, recommand) in both:
         assert rejoint.name == joint.name and len(recommand.data) == len(command.data)
     np.testing.assert_allclose([list(j.position) + list(j.velocity) + list(c.data)
                                 for (j, c), _ in both],
                                [list(j.position) + list(j.velocity) + list(c.data)
-                                for _, (j, c) in both], rtol=1e-12, atol=1e-12)
-    # (a message one node skipped changes the other's speed window: round-off, not a change)
+                                for _, (j, c) in both], rtol=0, atol=1e-12)
     assert second.stop(signal.SIGINT) == 0
