@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from cam_ros.core.ecam.motion_functions import LINE, motion_function, QUINTIC
+from cam_ros.core.ecam.motion_functions import LINE, motion_function, QUINTIC, REST_QUINTIC
 from cam_ros.core.motion.laws import make_law
 from cam_ros.core.motion.program import MotionProgram
 from cam_ros.core.motion.segment import Segment
@@ -81,3 +81,16 @@ def test_a_design_of_dwells_and_trigonometric_laws_is_lines_and_quintic_pieces()
             values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
             fitted = quintic(x0, x1, *values, x)
         assert np.abs(fitted - program.evaluate(x).s).max() <= tolerance
+
+
+def test_a_3_4_5_rise_between_dwells_is_one_rest_to_rest_quintic():
+    """The 3-4-5 polynomial is the quintic from rest to rest: native, at rest at both ends."""
+    rise = 0.02
+    program = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * K, 0.0, 0.0),
+                             Segment(make_law('polynomial_345'), 90 * K, 180 * K, 0.0, rise),
+                             Segment(make_law('dwell'), 180 * K, 240 * K, rise, rise),
+                             Segment(make_law('polynomial_345'), 240 * K, 360 * K, rise, 0.0)))
+    function = motion_function(program)
+    assert function.kinds == (LINE, REST_QUINTIC, LINE, REST_QUINTIC)
+    np.testing.assert_allclose(function.ds, 0.0, rtol=0, atol=1e-15)  # at rest at every point
+    np.testing.assert_allclose(function.d2s, 0.0, rtol=0, atol=1e-12)
