@@ -27,21 +27,22 @@ from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
 from cam_ros.recording import open_recording, parameter_changes
 
 DEFAULT = CONFIG_DIR / 'default.yaml'
-ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=30.0')
+#: master.timeout 300 s: the node's clock steps the line shaft (the master moving on) only after
+#: 30 s of silence, not while the paused master waits for the change on a loaded machine.
+ECAM = ('-p', 'master.source:=topic', '-p', 'master.timeout:=300.0')
 START_NS = 5_000 * 10 ** 9
 DT = 0.004  # 250 Hz
 SPEED = 2 * math.pi  # 60 rpm: 1.44 deg per message
-COUNT = 300  # 1.2 s of master
+COUNT = 750  # 3 s of master: a change made late on a loaded machine still lands in it
 CHANGE_AFTER = 0.5  # s into the stream
 OFFSET_CM = 0.3
 
 
-def replay_into_fresh_node(start_cam_node, executor, path, last: int,
-                           *options: str) -> dict[int, float]:
+def replay_into_fresh_node(start_cam_node, executor, path, *options: str) -> dict[int, float]:
     """Start a fresh node, replay the recorded master stream into it with the CLI.
 
     Return its position commands by master stamp (its ~/joint_states carry the master's stamp)
-    once it answered the one stamped last.
+    once they stop coming (its last message too may be lost).
     """
     node, _ = start_cam_node(DEFAULT, *ECAM)
     link = MasterLink(executor)
@@ -51,10 +52,11 @@ def replay_into_fresh_node(start_cam_node, executor, path, last: int,
     assert result.returncode == 0, result.stderr
     recorded = open_recording(path).topics['/cam/master'].count
     assert result.stdout.startswith(f'published {recorded} messages')
-    deadline = time.monotonic() + WAIT_S  # until the last replayed message is answered
-    while last not in {stamp_of(m) for m in link.messages('joints')}:
+    deadline, count = time.monotonic() + WAIT_S, -1
+    while count != len(link.messages('joints')):  # 0.5 s without an answer
         assert time.monotonic() < deadline, node.log()
-        time.sleep(0.05)
+        count = len(link.messages('joints'))
+        time.sleep(0.5)
     assert node.stop(signal.SIGINT) == 0, node.log()
     return {stamp_of(m): m.position[1] for m in link.messages('joints')}
 
@@ -108,14 +110,13 @@ def test_replay_with_apply_parameters_reproduces_a_recorded_run_with_a_change(
     # replaying publisher at first, or a backlog skipped on a loaded machine); every one both
     # nodes answered must match.
     recorded = {stamp_of(m): m.position[1] for m in answers}
-    last = stamp_of(stream[-1])
-    replayed = replay_into_fresh_node(start_cam_node, executor, path, last, '--apply-parameters')
-    assert 2 * len(replayed.keys() & recorded.keys()) >= len(recorded)
+    replayed = replay_into_fresh_node(start_cam_node, executor, path, '--apply-parameters')
+    assert len(replayed.keys() & recorded.keys()) >= 100  # each node may skip some
     assert {stamp: recorded[stamp] for stamp in replayed if stamp in recorded} == {
         stamp: value for stamp, value in replayed.items() if stamp in recorded}
 
-    unchanged = replay_into_fresh_node(start_cam_node, executor, path, last)
-    assert 2 * len(unchanged.keys() & recorded.keys()) >= len(recorded)
+    unchanged = replay_into_fresh_node(start_cam_node, executor, path)
+    assert len(unchanged.keys() & recorded.keys()) >= 100
     expected = dict(zip(recorded, old))  # the old cam all through, the change not made
     assert {stamp: value for stamp, value in unchanged.items() if stamp in recorded} == {
         stamp: expected[stamp] for stamp in unchanged if stamp in recorded}
