@@ -28,6 +28,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
+from cam_ros.client import CLIENT_QOS
+
 SERVICE = '/cam/evaluate'
 #: An answer later than this counts as missing. Long: on a loaded machine a call can wait
 #: seconds for the CPU, and a lost answer never arrives however long one waits.
@@ -56,8 +58,14 @@ def spinning(node: rclpy.node.Node) -> tuple[SingleThreadedExecutor, threading.T
 
 
 def service_client(node: rclpy.node.Node) -> rclpy.client.Client:
-    """Return an EvaluateCam client whose service is up."""
-    client = node.create_client(EvaluateCam, SERVICE)
+    """
+    Return an EvaluateCam client whose service is up.
+
+    Its reply reader is CamClient's (CLIENT_QOS): rmw_fastrtps sends every reply to every
+    client (ros2/rmw_fastrtps#559), and with ROS's default depth of 10 a client of several busy
+    ones, slowed by a loaded machine, finds its own reply pushed out and waits in vain.
+    """
+    client = node.create_client(EvaluateCam, SERVICE, qos_profile=CLIENT_QOS)
     if not client.wait_for_service(timeout_sec=WAIT_S):
         raise SystemExit(f'{SERVICE} not available')
     return client

@@ -48,23 +48,28 @@ FULL_DISK_TIMEOUT_S = 20.0
 #: Angles of a vanishing client's request (16 MB): answering it costs the node a few tenths of
 #: a second of CPU, so the client is killed while the node works on it.
 BIG_BATCH = 2_000_000
-#: The evidence that a big request reached the node: one of its service threads has spent this
-#: share of the CPU time the core takes for the same angles in this process (same machine, same
-#: run). Fast DDS's own threads receive the request's fragments; the service thread does
-#: nothing until the request is whole, then unpacks it, evaluates and packs a 96 MB answer.
-BUSY_SHARE = 0.5
+#: The evidence that a big request reached the node and is being answered: one of its service
+#: threads has spent this share of the CPU time the core takes for the same angles in this
+#: process (same machine, same run; the least of EVALUATIONS, warm). Fast DDS's own threads
+#: receive the request's fragments; the service thread does nothing until the request is whole,
+#: then unpacks it (a tenth or so of that), evaluates and packs a 96 MB answer.
+BUSY_SHARE = 1.0
+EVALUATIONS = 3
 #: The request's fragments can take many seconds to cross a loaded machine.
 REQUEST_IN_TIMEOUT_S = 60.0
 #: A call queued behind an abandoned big request is answered once the node is done with it;
 #: this long means stalled.
 STALL_TIMEOUT_S = 20.0
 #: Small requests once the node is idle again: their median round trip must stay within this
-#: factor of the median before the faults, in the same run. A machine's load moves both alike
-#: (sub-millisecond medians here vary 2-fold); a service thread blocked on its abandoned
-#: answers (a reliable writer waits 100 ms and more for room) fails it.
+#: factor of the 90th percentile before the faults, in the same run. A machine's load moves
+#: both (a sub-millisecond median before became 5 ms after, beside two busy processes, with
+#: a p90 before of several ms); a service thread blocked on its abandoned answers (a reliable
+#: writer waits 100 ms and more for room) fails it.
 LATENCY_RATIO = 10.0
 LATENCY_PROBES = 20
-LAZY_RATE_HZ = 500.0
+#: The node's state rate in the stalled-subscriber test: one a loaded machine keeps (at 500 Hz
+#: the node's timer skipped periods there, and the rate swung 215-494 Hz between two windows).
+LAZY_RATE_HZ = 100.0
 #: Share of its state rate with no stalled subscriber (same run) that the node must keep while
 #: the lazy subscribers ignore it.
 MIN_RATE_FRACTION = 0.8
@@ -279,6 +284,14 @@ def test_full_disk_stops_the_recording_not_the_node(ros_domain, executor, tmp_pa
             process.process.wait()
 
 
+def evaluation_cpu_s(design: Any, count: int) -> float:
+    """Return the CPU time (s) this thread takes to evaluate count angles with the core."""
+    angles = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
+    start = time.thread_time()
+    design.evaluate(angles)
+    return time.thread_time() - start
+
+
 def big_request_taken(pid: int, core_cpu_s: float) -> Callable[[], bool]:
     """
     Return a predicate: has the node (pid) taken a big request since now?
@@ -297,9 +310,7 @@ def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
     process, client = start_cam_node(DEFAULT, '-p', f'output.state_rate_hz:={LAZY_RATE_HZ}',
                                      '-p', f'output.max_batch:={BIG_BATCH}')
     design = design_with(**{'output.state_rate_hz': LAZY_RATE_HZ})
-    cpu_before = time.thread_time()
-    design.evaluate(np.linspace(0.0, 2.0 * np.pi, BIG_BATCH, endpoint=False))
-    core_cpu_s = time.thread_time() - cpu_before  # what one big request costs, in this run
+    core_cpu_s = min(evaluation_cpu_s(design, BIG_BATCH) for _ in range(EVALUATIONS))
     baseline = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
     # The state rate this machine sees with no stalled subscriber: the floor for the one with.
     alone = witnessed_rate(executor, effort.stall_s)
@@ -334,7 +345,8 @@ def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
                 assert_serves(response, design)
         assert stalled <= len(vanishing) // 2, f'{stalled} of {len(vanishing)} calls stalled'
         after = [timed_evaluate(client, SAMPLE_ANGLES) for _ in range(LATENCY_PROBES)]
-        assert np.median(after) <= LATENCY_RATIO * np.median(baseline), (after, baseline)
+        limit = LATENCY_RATIO * np.percentile(baseline, 90)
+        assert np.median(after) <= limit, (after, baseline)
         rate = witnessed_rate(executor, effort.stall_s)
         assert rate >= MIN_RATE_FRACTION * alone, (rate, alone)
         assert process.process.poll() is None and lazy.process.poll() is None
@@ -343,7 +355,7 @@ def test_vanishing_clients_and_stalled_subscribers_leave_the_node_unaffected(
             child.kill()
     assert process.stop(signal.SIGINT) == 0
     report('clients killed mid-call (2e6-angle requests)', effort.vanishing_clients)
-    report('CPU of one big request in the test process, s', f'{core_cpu_s:.2f}')
+    report('core CPU for one big request in the test process (warm), s', f'{core_cpu_s:.2f}')
     report('small call queued behind an abandoned request, s',
            ', '.join(f'{t:.2f}' for t in queued))
     report('clients left waiting behind an abandoned answer (rmw_fastrtps#559)', stalled)
