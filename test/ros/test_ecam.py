@@ -232,36 +232,38 @@ def test_design_change_on_a_running_master_waits_for_a_common_place(start_cam_no
     old, new = ecam_design(DEFAULT), ecam_design(DEFAULT, **rise)
     link = MasterLink(executor)
     link.connect(process)
-    speed, step = 20.0, 0.1  # rad/s, rad per message
-    q = 1.0 + step * np.arange(120)  # over 1.2 turns from 57 deg
-    stamps = START_NS + np.round(np.arange(q.size) * step / speed * 1e9).astype(np.int64)
-    first = outputs(link)
-    link.send([master_message(stamp, position=(angle,), velocity=(speed,))
-               for stamp, angle in zip(stamps[:20].tolist(), q[:20].tolist())])  # in the rise
-    sent = time.monotonic()
-    result = set_parameters(executor, [Parameter(name, value=value)
-                                       for name, value in rise.items()])
-    assert result.successful, result.reason
-    # The master stood while the parameters were set: its stamps go on after as much time.
-    stamps[20:] += round((time.monotonic() - sent) * 1e9)
+    speed = math.pi  # 30 rpm, 250 Hz: two turns from 57 deg, the change asked for at 100 deg
+    q = 1.0 + speed * DT * np.arange(1000)
+    stamps = START_NS + np.round(DT * 1e9 * np.arange(q.size)).astype(np.int64)
     messages = [master_message(stamp, position=(angle,), velocity=(speed,))
                 for stamp, angle in zip(stamps.tolist(), q.tolist())]
-    link.send(messages[20:])
+    first = outputs(link)
+    origin = time.monotonic()
+    running = link.stream(messages, DT)  # the master runs on while the parameters are set
+    time.sleep((math.radians(100.0) - q[0]) / speed)
+    result = set_parameters(executor, [Parameter(name, value=value)
+                                       for name, value in rise.items()])
+    asked = START_NS + round((time.monotonic() - origin) * 1e9)  # messages after: asked before
+    assert result.successful, result.reason
+    running.join()
     answered, _, commands = stepped(link, first, messages)
-    q = q[np.isin(stamps, [stamp_of(m) for m in answered])]
+    taken = np.isin(stamps, [stamp_of(m) for m in answered])
+    q, stamps = q[taken], stamps[taken]
     commands = np.array([m.data[0] for m in commands])
     by_old, by_new = reference(old, q, speed)[0], reference(new, q, speed)[0]
     from_old = np.abs(commands - by_old) <= 1e-12
     from_new = np.abs(commands - by_new) <= 1e-12
     assert (from_old | from_new).all()
-    old_only = np.flatnonzero(from_old & ~from_new)
+    # Asked for in the rise (the cams differ from 90 deg to 360 deg), the change waits: the old
+    # cam rules on through the rise, the dwell and the return; the new one from the common dwell
+    # at 0-90 deg on (applied at the cycle start, the cams' first difference at 90-100 deg).
+    degrees = np.degrees(q)
+    assert 90.0 < degrees[np.searchsorted(stamps, asked)] < 340.0, 'asked too late to show it'
+    waiting = (stamps > asked) & (degrees < 360.0)
+    assert np.sum(waiting & ~from_new) > 50 and from_old[waiting].all()
     new_only = np.flatnonzero(from_new & ~from_old)
-    # The old cam rules on after the change (in the rise up to 166 deg, where the cams differ
-    # by up to 1 cm) and through the return; the new one from the common dwell at 0-90 deg on.
-    assert 240.0 < np.degrees(q[old_only[-1]]) < 360.0
-    assert new_only[0] > old_only[-1] and from_new[new_only[0]:].all()
-    assert 90.0 < np.degrees(q[new_only[0]]) % 360.0 < 100.0
-    assert from_old[:new_only[0]].all()
+    assert 450.0 < degrees[new_only[0]] < 460.0
+    assert from_new[new_only[0]:].all() and from_old[:new_only[0]].all()
     # No step: every increment is one the old or the new cam makes over the same master step.
     increments = np.maximum(np.abs(np.diff(by_old)), np.abs(np.diff(by_new)))
     assert (np.abs(np.diff(commands)) <= increments + 1e-9).all()
