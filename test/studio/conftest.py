@@ -6,6 +6,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 import pytest
+from prerequisites import require
 
 from .studio_support import CONFIG_DIR, Studio
 
@@ -32,10 +33,10 @@ def studio(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[Studio]:
 
 @pytest.fixture(scope='session')
 def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[str, Any]:
-    """Launch Debian's Chromium, headless; the browser tests skip, saying why, without it."""
-    if not CHROMIUM.is_file():
-        pytest.skip(f'{CHROMIUM} is missing: the studio\'s browser tests need Debian\'s '
-                    'chromium (apt-get install chromium)')
+    """Launch Debian's Chromium, headless; without it the browser tests skip (CI=true: fail),
+    saying why."""
+    require(str(CHROMIUM), "the studio's browser tests need Debian's chromium "
+            '(apt-get install chromium)')
     return {**browser_type_launch_args, 'executable_path': str(CHROMIUM),
             'args': ['--no-sandbox']}
 
