@@ -33,7 +33,7 @@ def run_once(link, cam, messages, q, start: float):
     position = np.array([m.position[1] for m in answers])
     velocity = np.array([m.velocity[1] for m in answers])
     ended = np.abs(q - start) >= TURN  # as the node tests it (master.scaling 1)
-    assert 50 < ended.sum() < q.size - 50
+    assert 10 < ended.sum() < q.size - 10  # both parts heard (a backlog may be skipped)
     on_cam = cam.setpoints(q, SPEED)
     closed_form, closed_velocity = seed_000_follower(q, SPEED)
     running = ~ended
@@ -52,7 +52,7 @@ def run_once(link, cam, messages, q, start: float):
 def test_one_shot_cam_holds_its_end_and_engage_runs_it_again(start_cam_node, executor):
     process, _ = start_cam_node(DEFAULT, '-p', 'master.source:=topic', '-p',
                                 'master.periodic:=false', '-p', 'master.engage_mode:=immediate',
-                                '-p', 'master.timeout:=30.0')
+                                '-p', 'master.timeout:=300.0')  # no clock steps in the pause
     design = ecam_design(DEFAULT)
     cam = ElectronicCam(design.program, MasterConfig.from_config(design.config).mapping)
     link = MasterLink(executor)
