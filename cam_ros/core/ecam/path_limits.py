@@ -259,10 +259,12 @@ def _machine_bands(slope: np.ndarray, curvature: np.ndarray, max_velocity: np.nd
 def _window(found: Bands) -> Bands:
     """Return at each point the bands of it and the WINDOW - 1 points after it together: what
     a step over up to WINDOW - 2 cells from there must keep (its speed cap included)."""
-    rows = [np.concatenate([np.roll(part, -shift, axis=1) for shift in range(WINDOW)])
-            for part in (found.lower0, found.lower1, found.upper0, found.upper1)]
+    def stacked(part: np.ndarray) -> np.ndarray:
+        return np.concatenate([np.roll(part, -shift, axis=1) for shift in range(WINDOW)])
+
     cap = np.min([np.roll(found.cap, -shift) for shift in range(WINDOW)], axis=0)
-    return Bands(*rows, cap)
+    return Bands(stacked(found.lower0), stacked(found.lower1), stacked(found.upper0),
+                 stacked(found.upper1), cap)
 
 
 def _braking(found: Bands, steps: np.ndarray) -> np.ndarray:
