@@ -83,7 +83,7 @@ def run_the_master_through_the_states(managed, link: MasterLink) -> None:
     assert k[0] > INACTIVE_S / DT / 2  # the master ran unanswered while inactive
     position = np.array([m.position[1] for m in first])
     velocity = np.array([m.velocity[1] for m in first])
-    running = k[:gap] < k[0] + ACTIVE_S / DT / 2
+    running = (k[:gap] >= 0) & (k[:gap] < k[0] + ACTIVE_S / DT / 2)  # not the clock's stop
     cam, cam_velocity = seed_000_follower(q[k[:gap][running]], SPEED)
     np.testing.assert_allclose(position[running], cam, rtol=0, atol=1e-12)
     np.testing.assert_allclose(velocity[running], cam_velocity, rtol=VELOCITY_RTOL, atol=1e-15)
