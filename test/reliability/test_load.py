@@ -1,8 +1,9 @@
 """Load: client processes call /cam/evaluate at once while the node records its topics.
 
 Every answer must arrive and equal the core's evaluation (each client checks its own), the node's
-memory must stay flat, and the recording must hold exactly the state messages an independent
-witness received over the same time window.
+memory must stay flat, and the recording must hold every state message an independent witness
+received over the same time window, once and in order (a witness held up may miss a few the
+recorder kept: at most a tenth).
 """
 from __future__ import annotations
 
@@ -78,7 +79,13 @@ def test_concurrent_clients_get_every_answer_and_every_message_is_recorded(
     low, high = max(witnessed[0][0], kept[0][0]), min(witnessed[-1][0], kept[-1][0])
     published = [item for item in witnessed if low <= item[0] <= high]
     stored = [item for item in kept if low <= item[0] <= high]
-    assert stored == published, (len(stored), len(published))
+    # Every message the witness saw is recorded, once, in order. The witness may miss one the
+    # recorder kept: a test process held up by the suite falls behind the node's keep-last
+    # history (seen in full runs: 20 of 3117); the recorder's writer process never does.
+    assert not set(published) - set(stored), (len(stored), len(published))
+    stamps = [stamp for stamp, _ in stored]
+    assert all(b > a for a, b in zip(stamps, stamps[1:]))  # no duplicate, no reordering
+    assert len(stored) >= len(published) > 0.9 * len(stored), (len(stored), len(published))
 
     report('load', f'{effort.clients} client processes x {effort.load_s:g} s')
     report('evaluate calls (batches of 1-1000 angles)', calls)
