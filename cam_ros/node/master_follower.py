@@ -137,6 +137,7 @@ class MasterFollower:
         self._clock = threading.Thread(target=self._run_clock, name='line shaft clock',
                                        daemon=True)
         self._clock.start()
+        node.context.on_shutdown(self._end_clock)  # before rclpy finalizes its logging
         self._publish_state()
         interfaces = ', '.join(f'{name} {interface}' for name, interface in
                                zip(self._axes.names, self._axes.interfaces))
@@ -205,9 +206,15 @@ class MasterFollower:
 
     def stop(self) -> None:
         """Stop taking master messages and the clock (before the node is destroyed)."""
-        self._clock_stop.set()
-        self._clock.join()
+        self._end_clock()
         self._intake.stop()
+
+    def _end_clock(self, wait_s: float = 1.0) -> None:
+        """End the clock thread, waiting for a step under way (at most wait_s: a shutdown may
+        come while this thread holds the lock the step waits for)."""
+        self._clock_stop.set()
+        if self._clock is not threading.current_thread():
+            self._clock.join(wait_s)
 
     def activate(self) -> None:
         """Send commands again: the line shaft catches up with the master."""
