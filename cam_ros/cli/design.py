@@ -160,6 +160,10 @@ def design_commands(sub: argparse._SubParsersAction) -> None:
                              'another needs the token printed with the URL)')
     parser.add_argument('--open', dest='open_browser', action='store_true',
                         help='open the page in the default browser')
+    parser.add_argument('--node', default=None, metavar='NAME',
+                        help='a running cam_node (e.g. /cam) on this ROS domain: show its master, '
+                             'commands, reported positions and state, engage, disengage, apply '
+                             'the edits to it through its parameters')
 
     parser = add_command(sub, 'plan', 'cam_ros.commands.plan:plan', 'Plan the moves onto the cams',
                          'The moves an engagement or a recovery makes from the axes\' positions '

@@ -7,8 +7,9 @@ from cam_ros.exit_codes import EXIT_OK
 
 
 def studio(config: str | None = None, port: int = 8770, host: str = '127.0.0.1',
-           open_browser: bool = False) -> int:
-    """Serve the studio for one design file until Ctrl-C; print its URL."""
+           open_browser: bool = False, node: str | None = None) -> int:
+    """Serve the studio for one design file until Ctrl-C; print its URL; node: a running
+    cam_node to show and drive."""
     from cam_ros.studio.server import document_of, serve
 
     if not 0 <= port <= 65535:
@@ -16,7 +17,7 @@ def studio(config: str | None = None, port: int = 8770, host: str = '127.0.0.1',
     document = document_of(config)
     machine_from_values(document.values)  # a design the CLI refuses is refused as it does
     try:
-        serve(document, host, port, open_browser)
+        serve(document, host, port, open_browser, node)
     except OSError as err:
         raise InvalidParameter('--port', port, f'cannot be served on {host} '
                                f'({err.strerror or err})') from err

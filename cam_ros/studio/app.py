@@ -4,14 +4,15 @@ Routes: GET / (the page), GET /assets/NAME (its script, style sheet and plotly.j
 here: nothing from the internet), GET /api/design (the file's values as texts), POST
 /api/view (what the page draws for edited values, or the one-line error at its field), POST
 /api/position (a motion's position at a cam angle, for splitting a segment), POST /api/report,
-POST /api/save, POST /api/export (a download made by the CLI's command).
+POST /api/save, POST /api/export (a download made by the CLI's command); with a live node
+(live.py): GET /api/live (what the node does), POST /api/live/engage, POST /api/live/apply.
 
 Security: the app reads and writes nothing but its design file (and a scratch folder inside
 the design's folder for downloads); no request names a path. On 127.0.0.1 it answers only
 requests whose Host is the loopback's (no DNS rebinding); on another host every request needs
 the token (in the URL once, then a cookie), as Jupyter does. A POST must carry JSON, which a
 page from elsewhere cannot send without the browser asking first (CORS), so no other site can
-make the studio save or export.
+make the studio save, export, apply to a node or engage it.
 """
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ import re
 import secrets
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Awaitable, Callable
+from typing import Any, Awaitable, Callable, TYPE_CHECKING
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
@@ -35,11 +36,14 @@ from cam_ros.core.machine import is_machine
 from cam_ros.core.machine.served import machine_from_values
 from cam_ros.studio import exports
 from cam_ros.studio.document import DesignDocument, typed_values, value_text
-from cam_ros.studio.view import design_view
+from cam_ros.studio.view import design_view, json_ready
+
+if TYPE_CHECKING:  # only a studio started with --node imports rclpy
+    from cam_ros.studio.live import LiveLink
 
 STATIC = Path(__file__).resolve().parent / 'static'
 #: The page's own files, by the name the page asks for, and their media types.
-ASSETS = {'studio.js': 'text/javascript', 'studio.css': 'text/css',
+ASSETS = {'studio.js': 'text/javascript', 'live.js': 'text/javascript', 'studio.css': 'text/css',
           'plotly.min.js': 'text/javascript'}
 LOOPBACK_HOSTS = ('127.0.0.1', 'localhost', '::1')
 TOKEN_COOKIE = 'cam_ros_studio_token'
@@ -103,8 +107,10 @@ class Guard:
         return None
 
 
-def create_app(document: DesignDocument, token: str | None = None) -> ASGIApp:
-    """Return the studio's app over one design file; token: needed by every request."""
+def create_app(document: DesignDocument, token: str | None = None,
+               live: LiveLink | None = None) -> ASGIApp:
+    """Return the studio's app over one design file; token: needed by every request; live:
+    the running node the page shows and drives (None: no node)."""
 
     async def page(request: Request) -> Response:
         response = Response((STATIC / 'index.html').read_bytes(), media_type='text/html')
@@ -126,7 +132,8 @@ def create_app(document: DesignDocument, token: str | None = None) -> ASGIApp:
         return JSONResponse({'label': document.label, 'name': document.path.name,
                              'read_only': document.read_only, 'machine': is_machine(values),
                              'values': {key: value_text(value) for key, value in values.items()},
-                             'laws': list(LAWS), 'parameters': PARAMETER_HELP})
+                             'laws': list(LAWS), 'parameters': PARAMETER_HELP,
+                             'live': None if live is None else live.name})
 
     def handler(work: Callable[[dict[str, Any]], Any]) -> Callable[[Request], Awaitable[Response]]:
         """Return a POST endpoint running work(body) in a thread; a CamError is its one line."""
@@ -182,6 +189,23 @@ def create_app(document: DesignDocument, token: str | None = None) -> ASGIApp:
             'X-Cam-Ros-Message': made.message.encode('ascii', 'replace').decode()
             .replace('\n', ' | ')})
 
+    def linked() -> LiveLink:
+        if live is None:
+            raise InvalidParameter('--node', None, 'is needed to drive a running node: start '
+                                   '`cam_ros studio FILE --node /cam`')
+        return live
+
+    async def live_status(request: Request) -> Response:
+        if live is None:
+            return JSONResponse({'node': None})
+        return JSONResponse(json_ready(await run_in_threadpool(live.status)))
+
+    def engage(body: dict[str, Any]) -> Any:
+        return linked().engage(body.get('engage') is True)
+
+    def apply(body: dict[str, Any]) -> Any:
+        return linked().apply(values_of(body))
+
     routes = [Route('/', page), Route('/assets/{name}', static),
               Route('/{name:str}', static),
               Route('/api/design', design),
@@ -189,5 +213,8 @@ def create_app(document: DesignDocument, token: str | None = None) -> ASGIApp:
               Route('/api/position', handler(position), methods=['POST']),
               Route('/api/report', handler(report), methods=['POST']),
               Route('/api/save', handler(save), methods=['POST']),
-              Route('/api/export', handler(export), methods=['POST'])]
+              Route('/api/export', handler(export), methods=['POST']),
+              Route('/api/live', live_status),
+              Route('/api/live/engage', handler(engage), methods=['POST']),
+              Route('/api/live/apply', handler(apply), methods=['POST'])]
     return Guard(Starlette(routes=routes), token)

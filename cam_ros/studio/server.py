@@ -1,4 +1,4 @@
-"""Serve the studio: bind, say where, run uvicorn until Ctrl-C."""
+"""Serve the studio: bind, say where, run uvicorn until Ctrl-C (with --node: linked to it)."""
 from __future__ import annotations
 
 import secrets
@@ -7,11 +7,15 @@ import sys
 import threading
 import webbrowser
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import uvicorn
 
 from cam_ros.studio.app import create_app
 from cam_ros.studio.document import DesignDocument
+
+if TYPE_CHECKING:
+    from cam_ros.studio.live import LiveLink
 
 LOCAL_HOST = '127.0.0.1'
 
@@ -32,14 +36,20 @@ def bind(host: str, port: int) -> socket.socket:
     return sock
 
 
-def make_server(document: DesignDocument, token: str | None) -> uvicorn.Server:
+def make_server(document: DesignDocument, token: str | None,
+                live: LiveLink | None = None) -> uvicorn.Server:
     """Return the uvicorn server of the studio app (not started: run it on a bound socket)."""
-    config = uvicorn.Config(create_app(document, token), log_level='warning', lifespan='off')
+    config = uvicorn.Config(create_app(document, token, live), log_level='warning',
+                            lifespan='off')
     return uvicorn.Server(config)
 
 
-def serve(document: DesignDocument, host: str, port: int, open_browser: bool) -> None:
-    """Run the studio on host:port until interrupted; print its URL (stderr: a warning)."""
+def serve(document: DesignDocument, host: str, port: int, open_browser: bool,
+          node: str | None = None) -> None:
+    """Run the studio on host:port until interrupted; print its URL (stderr: a warning).
+
+    node: a running cam_node the page shows and drives (live.py), None: none.
+    """
     token = None if host == LOCAL_HOST else secrets.token_urlsafe(24)
     sock = bind(host, port)
     url = studio_url(host, sock.getsockname()[1], token)
@@ -47,18 +57,29 @@ def serve(document: DesignDocument, host: str, port: int, open_browser: bool) ->
         print(f'cam_ros studio: warning: serving on {host}, not only on this computer: '
               f'anyone who can reach it and has the URL with its token can edit and save '
               f'{document.path}', file=sys.stderr, flush=True)
-    print(f'cam_ros studio: serving {document.label} at {url} (Ctrl-C stops)', flush=True)
-    server = make_server(document, token)
+    live = None
+    if node is not None:
+        from cam_ros.studio.live import LiveLink
+
+        live = LiveLink(node, document.values)
+    linked = '' if live is None else f', linked to {live.name}'
+    print(f'cam_ros studio: serving {document.label}{linked} at {url} (Ctrl-C stops)',
+          flush=True)
+    server = make_server(document, token, live)
     if open_browser:
         threading.Timer(0.5, webbrowser.open, (url,)).start()
-    server.run(sockets=[sock])
+    try:
+        server.run(sockets=[sock])
+    finally:
+        if live is not None:
+            live.close()
 
 
-def run_in_thread(document: DesignDocument, host: str = LOCAL_HOST,
-                  token: str | None = None) -> tuple[uvicorn.Server, threading.Thread, str]:
+def run_in_thread(document: DesignDocument, host: str = LOCAL_HOST, token: str | None = None,
+                  live: LiveLink | None = None) -> tuple[uvicorn.Server, threading.Thread, str]:
     """Start the studio in a thread on a free port (tests, benchmarks); return its URL too."""
     sock = bind(host, 0)
-    server = make_server(document, token)
+    server = make_server(document, token, live)
     thread = threading.Thread(target=server.run, kwargs={'sockets': [sock]}, daemon=True)
     thread.start()
     return server, thread, studio_url(host, sock.getsockname()[1], token)
