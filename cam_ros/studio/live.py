@@ -32,9 +32,11 @@ from cam_ros.client import missing, wait_for_service
 from cam_ros.commands.ros import ros_node
 from cam_ros.core import InvalidParameter
 from cam_ros.core.cam_angles import cam_angle
+from cam_ros.core.machine import Axis
 from cam_ros.core.machine.interference import as_checked
+from cam_ros.core.machine.served import machine_from_values
+from cam_ros.node.joints import joint_coordinates
 from cam_ros.studio.document import same
-from cam_ros.studio.memory import machine_and_checks
 
 #: Longest wait for the node's service to be found and to answer (s).
 CALL_TIMEOUT_S = 10.0
@@ -45,8 +47,6 @@ LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 LEVELS = {DiagnosticStatus.OK: 'OK', DiagnosticStatus.WARN: 'WARN',
           DiagnosticStatus.ERROR: 'ERROR', DiagnosticStatus.STALE: 'STALE'}
-#: The joint name of a single cam's follower (a machine's joints are its axis names).
-FOLLOWER_JOINT = 'follower'
 
 
 def node_name(name: str) -> str:
@@ -63,6 +63,25 @@ def ros_parameter(name: str, value: Any) -> Any:
                                'hold values of one type: write 1.0, not 1)') from err
 
 
+def cam_degrees(axis: Axis, master: float) -> float:
+    """Return an axis's cam angle (deg) at the node's `cam` joint position.
+
+    A master topic's position maps by the axis's MC_CamIn mapping; a clock-driven node's `cam`
+    joint is the cam's rotation sigma theta (node/joints.py).
+    """
+    if axis.design.config.parameters['master.source'] == 'clock':
+        return math.degrees(cam_angle(master * joint_coordinates(axis.design).cam_sign))
+    return math.degrees(axis.cam.mapping.cam_angle(master))
+
+
+def file_position(axis: Axis, position: float | None) -> float | None:
+    """Return a joint position (SI) as the timing diagram draws it: the axis's file unit, a
+    rotary axis modulo a turn (None stays None)."""
+    if position is None:
+        return None
+    return float(as_checked(axis, position)) * axis.design.config.file_position_unit[1]
+
+
 def status_text(status: DiagnosticStatus | None) -> dict[str, str] | None:
     """Return a status as the page shows it: its level's name and its message."""
     if status is None:
@@ -76,6 +95,7 @@ class LiveLink:
     def __init__(self, name: str, values: Mapping[str, Any]):
         self.name = node_name(name)
         self.applied = dict(values)  # what the node is taken to serve: the file, then applied
+        self.machine = machine_from_values(values)
         self.lock = threading.Lock()
         self.joints: JointState | None = None
         self.reported: dict[str, float] = {}
@@ -158,40 +178,31 @@ class LiveLink:
         result = self.call(self.set_client, request).result
         if result.successful:
             self.applied.update(changed)
+            self.machine = machine_from_values(self.applied)
         return {'applied': result.successful, 'sent': sorted(changed), 'reason': result.reason}
 
     def status(self) -> dict[str, Any]:
         """Return what the page shows of the node: master, axes, state, diagnostics.
 
-        master_deg: the machine angle (the master modulo a turn); each axis's cam_deg, its
+        master_deg: the machine angle (the `cam` joint modulo a turn); each axis's cam_deg, its
         command and reported position in its file unit (a rotary axis modulo a turn), None
         until the node has sent them.
         """
         with self.lock:
             joints, reported = self.joints, dict(self.reported)
             state, diagnostics = self.state, list(self.diagnostics.values())
-        machine, _ = machine_and_checks(self.applied)
-        names = machine.config.names
-        single = len(names) == 1 and names[0] == FOLLOWER_JOINT
+        machine = self.machine
         commands: dict[str, float] = {}
         master = None
         if joints is not None and joints.position:
             master = float(joints.position[0])
             commands = dict(zip(joints.name[1:], joints.position[1:]))
-
-        def shown(axis: Any, position: float | None) -> float | None:
-            if position is None:
-                return None
-            unit_factor = axis.design.config.file_position_unit[1]
-            return float(as_checked(axis, position)) * unit_factor
-
         axes = {axis.name: {
             'unit': axis.design.config.file_position_unit[0],
-            'cam_deg': None if master is None
-            else math.degrees(axis.cam.mapping.cam_angle(master)),
-            'command': shown(axis, commands.get(axis.name)),
-            'reported': shown(axis, reported.get(axis.name))} for axis in machine.axes}
-        return {'node': self.name, 'machine': not single,
+            'cam_deg': None if master is None else cam_degrees(axis, master),
+            'command': file_position(axis, commands.get(axis.name)),
+            'reported': file_position(axis, reported.get(axis.name))} for axis in machine.axes}
+        return {'node': self.name,
                 'master_deg': None if master is None else math.degrees(cam_angle(master)),
                 'axes': axes, 'state': status_text(state),
                 'diagnostics': [{'name': status.name, **status_text(status)}

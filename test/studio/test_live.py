@@ -9,7 +9,11 @@ its engage and disengage buttons reach the node (its latched ~/engage_requests).
 from __future__ import annotations
 
 import math
+import re
 import shutil
+import signal
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -17,11 +21,12 @@ from typing import Iterator
 
 import numpy as np
 import pytest
+from cli.cli_support import CM, seed_000_motion
 from rclpy.parameter_client import AsyncParameterClient
 from rclpy.qos import DurabilityPolicy, QoSProfile
 from sensor_msgs.msg import JointState
 
-from .studio_support import CONFIG_DIR, Studio
+from .studio_support import CLI_TIMEOUT_S, CONFIG_DIR, Studio
 from .test_browser import answered, open_page, seq, type_value
 
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
@@ -235,3 +240,34 @@ def test_a_node_that_is_not_there_is_named_with_the_domain_searched(
         server.should_exit = True
         thread.join(timeout=30)
         live.close()
+
+
+def test_cam_ros_studio_node_follows_a_clock_driven_clockwise_cam(
+        start_cam_node, tmp_path: Path) -> None:
+    """`cam_ros studio FILE --node /cam` as a user starts it, on config/default.yaml's node: the
+    cam joint of a clockwise cam falls (sigma theta), and the page's cam angle is theta."""
+    path = shutil.copy(CONFIG_DIR / 'default.yaml', tmp_path / 'default.yaml')
+    start_cam_node(path)
+    studio_process = subprocess.Popen(
+        [sys.executable, '-m', 'cam_ros.cli', 'studio', str(path), '--port', '0', '--node',
+         '/cam'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = studio_process.stdout.readline()
+        assert ', linked to /cam at ' in line, studio_process.stderr.read()
+        studio = Studio(re.search(r' at (http://\S+) ', line).group(1), Path(path))
+        told_apart = 0
+        deadline = time.monotonic() + WAIT_S
+        while told_apart < 3:
+            assert time.monotonic() < deadline, f'{told_apart} statuses told the sign apart'
+            status = studio.get('api/live').json()['axes']['follower']
+            if status['command'] is None:
+                time.sleep(0.05)
+                continue
+            theta = math.radians(status['cam_deg'])
+            s, mirrored = seed_000_motion(np.array([theta, -theta]), rise=2 * CM)[0] / CM
+            assert status['command'] == pytest.approx(s, abs=1e-9)  # cm, the file's unit
+            told_apart += abs(s - mirrored) > 1e-3
+            time.sleep(0.05)
+    finally:
+        studio_process.send_signal(signal.SIGINT)
+        assert studio_process.wait(timeout=CLI_TIMEOUT_S) == 0
