@@ -147,6 +147,12 @@ def add_parameter(page, name: str, text: str) -> None:
     answered(page, before)
 
 
+def state_shown(page, text: str) -> None:
+    """Wait until the page shows the node's ~/state as text."""
+    page.wait_for_function("document.querySelector('[data-live-state]').textContent === "
+                           f"{text!r}")
+
+
 def click(page, action: str) -> None:
     """Click a live button and wait for the node's answer."""
     answers = int(page.evaluate('document.body.dataset.liveAnswers || 0'))
@@ -201,8 +207,10 @@ def test_the_page_shows_the_node_applies_a_phase_shift_and_shows_a_collision_ref
     click(page, 'disengage')
     drives.engaged(False)
     assert page.locator('[data-live-answer]').text_content().startswith('disengaged')
+    state_shown(page, 'WARN: at rest: disengaged')
     click(page, 'engage')
     drives.engaged(True)
+    state_shown(page, 'OK: engaged')
 
 
 def test_without_node_the_live_routes_say_so(studio: Studio) -> None:

@@ -63,6 +63,9 @@ function showStatus(status) {
       'data-command': axis.command === null ? '' : String(axis.command),
       'data-reported': axis.reported === null ? '' : String(axis.reported)},
       `${name}: command ${number(axis.command)}, reported ${number(axis.reported)} ${axis.unit}`)));
+  const failing = status.diagnostics.filter(item => item.level !== 'OK');
+  document.getElementById('live-summary').textContent = `diagnostics: ${
+    failing.length ? failing.map(item => `${item.name} ${item.level}`).join(', ') : 'all OK'}`;
   document.getElementById('live-diagnostics').replaceChildren(...status.diagnostics.map(
     item => element('li', {class: item.level === 'OK' ? '' : 'fails'},
                     `${item.name}: ${item.level}: ${item.message}`)));
