@@ -30,9 +30,9 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import SetBool
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import by_axis, Commands, SlaveAxes
+from cam_ros.core.ecam.axes import by_axis, Commands, MoveCheck, SlaveAxes
 from cam_ros.core.ecam.follow import EngageConfig, Follower
-from cam_ros.core.ecam.line_shaft import AT_REST, INACTIVE, LOST as HALTED_LOST
+from cam_ros.core.ecam.line_shaft import INACTIVE, LOST as HALTED_LOST
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
@@ -72,18 +72,21 @@ class MasterFollower:
     @classmethod
     def attach(cls, node: Node, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-               recorder: Callable[[], Recorder | None],
+               recorder: Callable[[], Recorder | None], check: Optional[MoveCheck] = None,
                active: bool = True) -> MasterFollower | None:
         """Return the component if master.source is topic, else None."""
         refuse_rewiring(node)
         if MasterConfig.from_config(axes[0][1].config).source != 'topic':
             return None
-        return cls(node, axes, switches, machine, joint_pub, recorder, active)
+        return cls(node, axes, switches, machine, joint_pub, recorder, check, active)
 
     def __init__(self, node: Node, axes: Sequence[tuple[str, CamDesign]],
                  switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-                 recorder: Callable[[], Recorder | None], active: bool = True):
-        """Follow the master; inactive (a managed node's state) until activate() unless active."""
+                 recorder: Callable[[], Recorder | None], check: Optional[MoveCheck] = None,
+                 active: bool = True):
+        """Follow the master; inactive (a managed node's state) until activate() unless active.
+
+        check: the machine's check of the moves onto the cams (interference pairs)."""
         self._node, self._recorder = node, recorder
         self._machine = machine
         first = axes[0][1].config
@@ -97,7 +100,7 @@ class MasterFollower:
                       EngageConfig.from_parameters(design.config.parameters),
                       values['master.engage_on_start'], SlaveLimits.from_config(design.config),
                       unit) for (_, design), unit in zip(axes, self._units)],
-            _interfaces(axes))
+            _interfaces(axes), check)
         self._design_statuses = design_statuses(node, axes)
         self._tracks = SwitchTracks(switch_table(switches))
         self._speed_limit = _speed_limit(axes)
@@ -316,8 +319,7 @@ class MasterFollower:
                                         virtual.omega / mapping.master_scaling):
             self._switches_pub.publish(UInt32(data=word))
             self._log.switched(self._topics.stamp_ns, master, word)
-        shaft = self._axes.shaft
-        self._rested = shaft.mode == AT_REST
+        self._rested = self._axes.resting
         if self._rested:
             self._history.stop()
 
@@ -387,12 +389,13 @@ class MasterFollower:
                 response.success = False
                 response.message = f'not engaged: {over}'
             else:
-                if request.data and self._faulted:
+                rejoin = [self._faulted] if request.data and self._faulted else []
+                if rejoin:
                     self._node.get_logger().info(
                         f'following error of {self._faulted} cleared: every axis within '
                         f'slave.following_error_limit')
                     self._faulted = ''
-                response.success, response.message = self._axes.engage(request.data)
+                response.success, response.message = self._axes.engage(request.data, rejoin)
                 self._rested = self._rested and not request.data
             self._say_events()
             self._publish_state()

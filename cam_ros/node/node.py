@@ -33,6 +33,7 @@ from cam_ros.core.config.parameters import ParameterSpec
 from cam_ros.core.errors import one_line
 from cam_ros.core.machine import is_machine, Machine, parse_machine
 from cam_ros.core.config.schema import parse_parameters
+from cam_ros.core.machine.move_check import checked_moves
 from cam_ros.core.machine.served import (collisions, machine_from_values, served_specs,
                                          update_refusal)
 from cam_ros.node.clock_state import ClockState
@@ -197,6 +198,8 @@ class CamNode(LifecycleNode):
         self._ecam = MasterFollower.attach(self, self._axes(), self.machine.config.parameters,
                                            not self._single, joint_pub,
                                            lambda: self._recording and self._recording.recorder,
+                                           lambda moves, master: checked_moves(self.machine,
+                                                                               moves, master),
                                            active=False)
         if not self._ecam:  # the clock drives the state, while active
             self._clock_state = ClockState(self, lambda: self.machine, self._single,

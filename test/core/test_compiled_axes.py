@@ -26,9 +26,14 @@ OMEGA, DT = 100 * TWO_PI / 60, 0.001  # 100 cycles/min at 1 kHz
 ONE_WAY = SlaveLimits(100.0, 200.0, 1, TWO_PI)
 
 
-def followers(config: EngageConfig = EngageConfig(), knife_limits: bool = True
+#: The machine's start modes: its cams at cam_speed bound the moves of axes without limits.
+CONFIG = EngageConfig(nominal_speed=float(MACHINE.config.parameters['cam_speed']))
+
+
+def followers(config: EngageConfig = CONFIG, knife_limits: bool = True
               ) -> list[Follower]:
-    """Return the machine's three followers and a one-way copy of the knife, engaging."""
+    """Return the machine's three followers and a one-way copy of the knife, engaging (each
+    from a position of its own: a move onto its cam first)."""
     found = [Follower(axis.cam, config, True, SlaveLimits.from_config(axis.design.config))
              for axis in MACHINE.axes]
     if knife_limits:
@@ -170,10 +175,10 @@ def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them()
 
 
 def test_a_one_shot_machine_ends_its_profile_on_the_same_sample():
-    config = EngageConfig(mode='immediate', periodic=False)
+    config = replace(CONFIG, mode='immediate', periodic=False)
     fast, alone = followers(config, False), followers(config, False)
     axes = SlaveAxes(['feeder', 'knife', 'jaw'], fast, ['position'] * 3)
-    omega = np.full(900, OMEGA)
+    omega = np.full(1500, OMEGA)  # moves onto the cams, a catch-up, then one cycle
     said = run(axes, alone, 0.5 + np.cumsum(omega) * DT, omega)
     assert_close(said, fast, omega)
     assert said['phases'][-1] == ['end of profile'] * 3

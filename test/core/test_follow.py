@@ -33,15 +33,35 @@ def drive(follower, q):
     return points, phases
 
 
-def test_ramp_joins_the_cam_from_the_held_position_and_is_exact_after():
-    follower = Follower(CAM, EngageConfig(distance=DISTANCE), engage=True)
+def test_ramp_waits_for_the_master_at_rest_then_moves_onto_the_cam_in_the_least_time():
+    # Without limits a move is bounded by the cam's own peaks at cam_speed: from a dense scan,
+    # velocity V = max |y'| w and acceleration A = max |y''| w^2; with no jerk limit the least
+    # time over a distance d is d / V + V / A (a trapezoid), or 2 sqrt(d / A) (a triangle).
+    follower = Follower(CAM, EngageConfig(distance=DISTANCE, nominal_speed=OMEGA), engage=True)
     follower.present = 0.012
-    q = 2.0 + OMEGA * DT * np.arange(60)
-    points, phases = drive(follower, q)
-    assert points[0] == 0.012 and phases[0] == ENGAGING
-    after = q - q[0] >= DISTANCE
-    assert set(np.array(phases)[after]) == {ENGAGED}
-    np.testing.assert_array_equal(np.array(points)[after], CAM.setpoints(q[after]).position)
+    q = 2.0 + OMEGA * DT * np.arange(20)
+    points, phases = drive(follower, q)  # the master runs: the move waits for it to rest
+    assert points == [0.012] * 20 and set(phases) == {HOLDING} and follower.needs_move
+    theta = float(q[-1])
+    positions, velocities, phases = [], [], []
+    for k in range(20, 2000):
+        point = follower.command(MasterState(k * 10 ** 6, theta, 0.0, 0.0, 0.0, theta))
+        positions.append(float(point.position))
+        velocities.append(float(point.velocity))
+        phases.append(follower.phase)
+    dense = CAM.derivatives(np.linspace(0.0, 2 * math.pi, 400_001))
+    fastest, hardest = np.abs(dense.dy).max() * OMEGA, np.abs(dense.d2y).max() * OMEGA ** 2
+    target = float(CAM.setpoints(theta).position)
+    distance = abs(target - 0.012)
+    least = distance / fastest + fastest / hardest if distance >= fastest ** 2 / hardest \
+        else 2.0 * math.sqrt(distance / hardest)
+    moving = phases.count(ENGAGING)
+    assert phases[0] == ENGAGING and set(phases[moving:]) == {ENGAGED}
+    assert abs(moving * DT - least) <= DT + least * 1e-5
+    assert positions[0] == pytest.approx(0.012, abs=1e-15)
+    assert positions[moving:] == [target] * (len(positions) - moving)  # on the cam, exactly
+    assert max(np.abs(velocities)) <= fastest * (1.0 + 1e-9)
+    assert np.all(np.sign(target - 0.012) * np.diff(positions) >= 0.0)  # straight there
 
 
 @pytest.mark.parametrize('mode', ['immediate', 'ramp', 'next_cycle'])

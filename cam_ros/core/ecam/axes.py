@@ -9,6 +9,13 @@ loss, a fault and deactivating halt the line shaft: a synchronized stop on the c
 starts and stops as one, and never leaves its cams for it); while the master is silent the node's
 clock steps it (tick).
 
+An engagement that moves an axis off its cam (Follower.needs_move: from where its drive is) is
+made with the line shaft at rest: it halts (MOVING; at once where no axis follows it), each such axis plans its move (ecam.moves)
+once it rests, the moves begun together are checked against the machine's interference pairs
+(check: given by whoever knows the machine; the moves as they are, delayed one after another, or
+refused with the pair that collides), and once every axis is on its cam the line shaft catches
+up with the master.
+
 From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.steady: engaged on
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
 (compiled.py: refined to the exact program's rounding, never worse than ACCURACY of each axis's
@@ -21,16 +28,17 @@ follower but through them.
 """
 from __future__ import annotations
 
-from typing import NamedTuple, Optional, Sequence
+from typing import Callable, Mapping, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
 from ..motion.program import MotionProgram
 from .compiled import CompiledCams, compile_program, ProgramTable
-from .follow import END_OF_PROFILE, ENGAGED, Follower
-from .line_shaft import DISENGAGED, LineShaft, Virtual
+from .follow import END_OF_PROFILE, ENGAGED, Follower, RUNNING, WAITING_CYCLE
+from .line_shaft import AT_REST, DISENGAGED, LineShaft, MOVING, Virtual
 from .master import ElectronicCam, Setpoints
 from .master_tracker import MasterState
+from .moves import MasterMotion, Move, on_cam
 from .path_limits import PathLimits
 
 #: Fewest axes whose steady commands come from the compiled tables: one pass costs about as much
@@ -39,6 +47,12 @@ COMPILED_FROM = 2
 #: The velocity error taken for a tabled command near backward under slave.direction: this
 #: many times the table's refined largest.
 DIRECTION_MARGIN = 2.0
+
+#: What an axis does while it follows the virtual master.
+FOLLOWING = (*RUNNING, WAITING_CYCLE)
+#: Checks every axis's move (by axis name; an axis on its cam: a move of duration 0) with the
+#: virtual master's motion: the moves to make (some delayed to their turn), or why none.
+MoveCheck = Callable[[Mapping[str, Move], MasterMotion], Union[Mapping[str, Move], str]]
 
 
 def by_axis(names: Sequence[str], said: Sequence[str]) -> str:
@@ -59,8 +73,10 @@ class SlaveAxes:
     """Followers by axis name, each with its command interface ('position' or 'velocity')."""
 
     def __init__(self, names: Sequence[str], followers: Sequence[Follower],
-                 interfaces: Sequence[str]):
+                 interfaces: Sequence[str], check: Optional[MoveCheck] = None):
         self.names, self._followers = tuple(names), list(followers)
+        self.check = check
+        self._checked: list[Move] = []  # the moves under way, checked
         # A tabled sample's commands, noted in the followers when they are next looked at:
         # after the node has sent them (see followers).
         self._unnoted: Optional[tuple[MasterState, Commands]] = None
@@ -113,6 +129,12 @@ class SlaveAxes:
             for follower in self.followers)
 
     @property
+    def resting(self) -> bool:
+        """Say whether nothing moves: the line shaft rests and no axis moves onto its cam."""
+        return self.shaft.mode == AT_REST and not any(
+            follower.move is not None for follower in self.followers)
+
+    @property
     def held(self) -> list[Optional[float]]:
         """Return each axis's last position commanded (None: nothing yet)."""
         return [follower.held for follower in self.followers]
@@ -122,11 +144,13 @@ class SlaveAxes:
         unless all have one."""
         if state.origin:
             self.shaft.origin()
+        self._rest_for_moves()
         return self._step(state.position, self.shaft.master(state))
 
     def tick(self, stamp_ns: int, position: float) -> Optional[Commands]:
         """Step the line shaft to a time (ns, the master's clock) without a master sample (at
         master position, for the joint states); return the commands, None before any."""
+        self._rest_for_moves()
         return self._step(position, self.shaft.tick(stamp_ns))
 
     def _step(self, position: float, virtual: Optional[Virtual]) -> Optional[Commands]:
@@ -135,7 +159,46 @@ class SlaveAxes:
         before = self.virtual
         if virtual is None or before is not None and virtual.stamp_ns <= before.stamp_ns:
             return None
-        return self._follow(self._virtual(position, virtual))
+        state = self._virtual(position, virtual)
+        commands = self._follow(state)
+        self._check_moves(state)
+        return commands
+
+    def _rest_for_moves(self) -> None:
+        """Halt the line shaft while an axis moves onto its cam or is to (see the module)."""
+        followers = self.followers
+        if any(follower.needs_move or follower.move is not None for follower in followers):
+            self.shaft.halt(MOVING, idle=not any(follower.phase in FOLLOWING
+                                                 for follower in followers))
+
+    def _check_moves(self, state: MasterState) -> None:
+        """Check the moves begun at this step (see the module); once none is under way, let
+        the line shaft follow the master (or rest, saying why an axis did not engage)."""
+        followers = self.followers
+        begun = [follower.move for follower in followers
+                 if follower.move is not None and follower.move not in self._checked]
+        if begun and self.check is not None:
+            master = MasterMotion(state.track, 0.0)
+            found = self.check({name: follower.move or on_cam(follower.joined, follower.limits,
+                                                              master)
+                                for name, follower in zip(self.names, followers)}, master)
+            for name, follower in zip(self.names, followers):
+                if follower.move not in begun:
+                    continue
+                if isinstance(found, str):
+                    follower.take_move(None, found)
+                else:
+                    follower.take_move(found[name])
+        self._checked = [follower.move for follower in followers if follower.move is not None]
+        if self.shaft.why != MOVING or self._checked or any(
+                follower.needs_move for follower in followers):
+            return
+        refused = [(name, follower.reason) for name, follower in zip(self.names, followers)
+                   if follower.wanted and follower.reason]
+        if refused:
+            self.shaft.halt('not engaged: ' + by_axis(*zip(*refused)))
+        else:
+            self.shaft.follow()
 
     @staticmethod
     def _virtual(position: float, virtual: Virtual) -> MasterState:
@@ -201,15 +264,18 @@ class SlaveAxes:
         assert state is not None
         return [follower.ahead(state, times) for follower in self.followers]
 
-    def engage(self, on: bool) -> tuple[bool, str]:
+    def engage(self, on: bool, rejoin: Sequence[str] = ()) -> tuple[bool, str]:
         """Engage every axis (each from where it is, then the line shaft catches up with the
-        master) or disengage (the line shaft stops on the cams); return success (all) and what
-        each said."""
+        master; the axes in rejoin from where their drives report, Follower.rejoin) or
+        disengage (the line shaft stops on the cams); return success (all) and what each
+        said."""
         if not on:
             stopping = self.shaft.following and self.shaft.state is not None
             self.shaft.halt(DISENGAGED)
             return True, 'disengaged: the line shaft stops every axis on its cam' if stopping \
                 else 'disengaged'
+        for name in rejoin:
+            self.followers[self.names.index(name)].rejoin()
         answers = [follower.engage() for follower in self.followers]
         self.shaft.follow()
         return all(ok for ok, _ in answers), by_axis(self.names, [said for _, said in answers])

@@ -11,20 +11,24 @@ master, during which every axis stays on its cam; a follower never sees them.
 Start modes (master.engage_mode), used for ~/engage and at start-up:
 
 - immediate: the slave takes the cam's value at once (a step unless it is already there; with
-  slave limits set, a ramp instead, since a step exceeds any limit).
-- ramp: the slave leaves its held position on a Blend onto the cam over master.engage_distance_deg
-  of master travel (position, velocity and acceleration continuous at both ends), or over as much
-  travel as its limits need (plan_blend).
+  slave limits set or on a rotary axis, a move as ramp's instead, since a step exceeds any limit).
+- ramp: the slave moves from where it is onto its cam in time (moves.plan_move: ruckig, within
+  its velocity, acceleration, jerk and direction; an axis without limits no faster and no harder
+  than its cam at cam_speed), with the virtual master at rest: a move off the cam is planned and
+  made only while the line shaft rests (needs_move; SlaveAxes halts it, checks the moves against
+  the interference pairs and lets it catch up with the master once every axis is on its cam).
 - next_cycle: the slave holds until the cam angle passes 0, where the cam must command the held
   position at rest (else the engagement is refused with the reason).
 
-The held position is the last command; before any command, the slave's reported position
-(slave.state_topic) when known, else none: the slave then starts on the cam's own value. A rotary
-slave joins the cam at a whole number of turns from where it is (slave_limits.join_turns), never
-by unwinding the turns it made.
-Offset changes blend from the old cam to the new one as engagements do; other design changes wait
-for a place the two designs share (Handover). A one-shot cam (master.periodic false) holds the
-position it reaches one master cycle (one cam turn) after its start: the end of profile.
+An engagement starts from the last command; before any command, or when rejoining after a
+fault (rejoin), from the slave's reported position (slave.state_topic) when known, else none: the
+slave then starts on the cam's own value. A rotary slave joins the cam at a whole number of turns
+from where it is (slave_limits.join_turns), never by unwinding the turns it made.
+Offset changes while the master runs blend from the old cam to the new one over master travel
+(plan_blend: within the limits at the larger of the master's speed and cam_speed); other design
+changes wait for a place the two designs share (Handover). A one-shot cam (master.periodic
+false) holds the position it reaches one master cycle (one cam turn) after its start: the end
+of profile.
 With slave limits or a direction set, a slave whose blend can no longer be followed (the master
 turned back under a one-way axis, or runs so fast that the cam exceeds the velocity limit) stops
 within its acceleration limit (Stop), holds, and engages again once it can.
@@ -42,8 +46,9 @@ from .engage import Blend, Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .slave_limits import (AxisUnit, CamPeaks, join_turns, Peaks, Plan, plan_blend, plan_speed,
-                           shifted, SlaveLimits)
+from .moves import AxisState, MasterMotion, Move, plan_move
+from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks, Plan,
+                           plan_blend, plan_speed, shifted, SlaveLimits)
 from .stop import Stop
 
 IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
@@ -52,6 +57,8 @@ HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle st
     'engaging', 'engaged'
 STOPPING, END_OF_PROFILE = 'stopping', 'end of profile'
 RUNNING = (ENGAGING, ENGAGED)
+#: Modes whose engagement is a move off the cam (immediate: with limits or rotary, see needs_move).
+MOVED = (IMMEDIATE, RAMP)
 #: next_cycle: largest difference (m or rad) between the held position and the cam at angle 0,
 #: and largest |dy/dtheta| there (per rad of cam), for a start without a step.
 NEXT_CYCLE_TOLERANCE = 1e-9
@@ -96,11 +103,30 @@ class Follower:
         self._turns = 0  # whole slave turns the cam is followed at (rotary slaves)
         self._path: SlavePath = cam
         self._stop: Optional[Stop] = None
-        self._peaks = (cam, CamPeaks.of(cam) if limits.limited else None)
+        self._move: Optional[Move] = None  # the move onto the cam under way
+        self._move_ns = 0  # its start (the virtual master's stamp)
+        self._peaks = (cam, CamPeaks.of(cam))
         self._start = 0.0  # master track where the cam run began
         self._last: Optional[MasterState] = None  # the previous sample
         self._velocity = 0.0  # the last velocity commanded
         self._pending = engage  # the next sample starts an engagement
+
+    @property
+    def needs_move(self) -> bool:
+        """Say whether the engagement due is a move off the cam: the line shaft must rest."""
+        mode = self.config.mode
+        return self._pending and self.wanted and self._origin() is not None and (
+            mode == RAMP or mode == IMMEDIATE and bool(self.limits.limited or self.limits.turn))
+
+    @property
+    def joined(self) -> ElectronicCam:
+        """Return the cam on the whole slave turns the slave follows it at."""
+        return shifted(self.cam, self._turns, self.limits)
+
+    @property
+    def move(self) -> Optional[Move]:
+        """Return the move onto the cam under way (None: none)."""
+        return self._move
 
     @property
     def status(self) -> str:
@@ -123,13 +149,33 @@ class Follower:
             self.phase, self.reason = HOLDING, ''
         return True, f'engaging ({self.config.mode}) at the next master message'
 
+    def rejoin(self) -> None:
+        """Engage again from the reported position (a stalled axis after a fault): the first
+        command is where the drive is, then a move onto the cam."""
+        if self.present is None or self._move is not None:
+            return
+        self.held, self._velocity = None, 0.0
+        self.phase, self.reason, self._pending = HOLDING, '', True
+        self._path = self.joined
+
+    def take_move(self, move: Optional[Move], why: str = '') -> None:
+        """Make the move just begun a checked one (delayed to its turn), or refuse it: hold
+        where it started, saying why."""
+        if move is not None:
+            self._move = move
+            return
+        assert self._move is not None
+        self.held, self._move = self._move.start.position, None
+        self.phase, self.reason, self._path = HOLDING, why, self.joined
+        self.events.append(f'not engaged: {why}')
+
     def change(self, cam: ElectronicCam, config: EngageConfig,
                limits: Optional[SlaveLimits] = None) -> str:
         """Take a new design, start modes and limits; return how the cam changes."""
         old, self.config = self.cam, config
         if limits is not None and limits != self.limits:
             self.limits = limits
-            self._peaks = (old, CamPeaks.of(old) if limits.limited else None)
+            self._peaks = (old, self._peaks[1] if self._peaks[0] is old else CamPeaks.of(old))
         self.handover = None
         if self.phase not in RUNNING or self._last is None:
             self._set_cam(cam)
@@ -140,10 +186,13 @@ class Follower:
         same = replace(old.mapping, master_offset=0.0, slave_offset=0.0) == replace(
             cam.mapping, master_offset=0.0, slave_offset=0.0) and old.program == cam.program
         if not (same or self.phase == ENGAGING):
-            self.handover = Handover(self._joined(), shifted(cam, self._turns, self.limits))
+            self.handover = Handover(self.joined, shifted(cam, self._turns, self.limits))
             return f'pending: {self.handover.describe()}'
+        if self._move is not None:
+            return 'refused, the slave runs on the old cam: it is moving onto it (change it ' \
+                'again once engaged)'
         self._set_cam(cam)  # planned against the new cam's own peaks
-        plan = self._plan(self._path, cam, self._last, held=False)
+        plan = self._plan(self._path, cam, self._last)
         if isinstance(plan, str):
             self._set_cam(old)
             return f'refused, the slave runs on the old cam: {plan}'
@@ -160,7 +209,8 @@ class Follower:
         if self.phase == STOPPING:
             return self._stopping(state)
         if self._pending and self.wanted:
-            self._begin(state)
+            if not (self.needs_move and state.omega):  # a move waits for the line shaft's rest
+                self._begin(state)
         elif self.phase == WAITING_CYCLE:
             self._wait_for_cycle(track)
         elif self.phase in RUNNING:
@@ -168,7 +218,10 @@ class Follower:
         angle = self.cam.mapping.cam_angle(track)
         if self.phase in RUNNING:
             point = chain_rule(angle, self._path.derivatives(track), state.omega, state.alpha)
-            if self.limits.direction * point.velocity < 0.0:  # the master turned back
+            if self._move is not None:
+                point = self._moved(point, state, 0.0)
+            backward = BACKWARD_TOLERANCE if self._move else 0.0  # a move's round-off
+            if self.limits.direction * point.velocity < -backward:  # the master turned back
                 self._begin_stop('the master turned back under slave.direction')
                 return self._stopping(state)
         else:
@@ -214,7 +267,18 @@ class Follower:
             return Setpoints(angle, position, velocity, acceleration, np.zeros_like(times))
         running = self.phase in RUNNING
         path = self._path if running else Held(self.held if self.held is not None else 0.0)
-        return chain_rule(angle, path.derivatives(master), state.omega if running else 0.0, 0.0)
+        point = chain_rule(angle, path.derivatives(master), state.omega if running else 0.0, 0.0)
+        return self._moved(point, state, times) if running and self._move else point
+
+    def _moved(self, point: Setpoints, state: MasterState, ahead: Any) -> Setpoints:
+        """Add the move's offset from the cam (moves.Move.relative) at ahead s after state."""
+        assert self._move is not None
+        e, de, dde, d3e = self._move.relative((state.stamp_ns - self._move_ns) * 1e-9 + ahead)
+        if np.ndim(e) == 0 or isinstance(point.position, float):
+            e, de, dde, d3e = (float(np.asarray(value).reshape(-1)[0]) for value in
+                               (e, de, dde, d3e))
+        return Setpoints(point.cam_angle, point.position + e, point.velocity + de,
+                         point.acceleration + dde, point.jerk + d3e)
 
     def _origin(self) -> Optional[float]:
         """Return where the slave is held: the last command, else its reported position."""
@@ -226,18 +290,12 @@ class Follower:
         same = old.program == cam.program and replace(old.mapping, slave_offset=0.0) == \
             replace(cam.mapping, slave_offset=0.0)
         self.cam = cam
-        if self.limits.limited and not same:
+        if not same:
             self._peaks = (cam, CamPeaks.of(cam))
-
-    def _joined(self) -> ElectronicCam:
-        """Return the cam on the whole slave turns the slave joined it at."""
-        return shifted(self.cam, self._turns, self.limits)
 
     def _cam_peaks(self, omega: float, alpha: float) -> Peaks:
         """Return the cam's own peaks at a master speed and acceleration."""
-        peaks = self._peaks[1]
-        assert peaks is not None  # computed whenever limits are set
-        return peaks.at(omega, alpha, self.limits.direction)
+        return self._peaks[1].at(omega, alpha, self.limits.direction)
 
     def _cam_problem(self, omega: float, velocity_only: bool = False) -> str:
         """Say why the cam itself cannot be followed at a master speed ('' if it can)."""
@@ -249,8 +307,7 @@ class Follower:
         excess = peaks.excess(self.limits, self.unit)
         return f'the cam at master speed {omega:.6g} rad/s: {excess}' if excess else ''
 
-    def _plan(self, start: SlavePath, cam: ElectronicCam, state: MasterState,
-              held: bool) -> Plan | str:
+    def _plan(self, start: SlavePath, cam: ElectronicCam, state: MasterState) -> Plan | str:
         """Return the shortest blend within the limits onto the cam (whole turns chosen)."""
         omega = plan_speed(state.omega, self.config.nominal_speed)
         position = float(start.derivatives(state.track).y)
@@ -258,7 +315,7 @@ class Follower:
             cam_peaks = self._cam_peaks(omega, 0.0)
         else:
             cam_peaks = CamPeaks.of(cam).at(omega, 0.0, 0)
-        candidates = join_turns(cam, state.track, position, self.limits, held)
+        candidates = join_turns(cam, state.track, position, self.limits, held=False)
         plans = [plan_blend(start, shifted(cam, turns, self.limits), state.track, omega, 0.0,
                             self.config.distance, self.limits, self.unit, cam_peaks)
                  for turns in candidates]
@@ -293,7 +350,7 @@ class Follower:
             self.phase, self.reason = HOLDING, problem
             return
         self._pending, self.reason = False, ''
-        self.phase, self._path, self._start = ENGAGED, self._joined(), track
+        self.phase, self._path, self._start = ENGAGED, self.joined, track
         if origin is None:
             return
         if mode == NEXT_CYCLE:
@@ -304,13 +361,20 @@ class Follower:
             return
         if mode == IMMEDIATE and not self.limits.limited and not self.limits.turn:
             return
-        plan = self._plan(Held(origin), self.cam, state, held=True)
-        if isinstance(plan, str):
-            self.phase, self.reason = HOLDING, plan
+        move = plan_move(self.cam, self.limits, AxisState(origin), MasterMotion(track, 0.0),
+                         self.config.nominal_speed, self.unit, self._peaks[1])
+        if isinstance(move, str):
+            self.phase, self.reason = HOLDING, move
+            self.events.append(f'not engaged: {move}')
             return
-        self.phase, self._path = ENGAGING, plan.blend
-        if mode == IMMEDIATE and plan.blend.end.derivatives(track).y != origin:
-            self.events.append('immediate engagement ramps in: a step exceeds the slave limits')
+        self._turns, self._path = move.turns, move.cam
+        if move.duration == 0.0:
+            return
+        self.phase, self._move, self._move_ns = ENGAGING, move, state.stamp_ns
+        self.events.append(
+            f'{"immediate engagement moves" if mode == IMMEDIATE else "moves"} onto its cam: '
+            f'{self.unit.say(abs(move.start.position - float(move.cam.derivatives(track).y)))} '
+            f'in {move.duration:.6g} s')
 
     def _begin_stop(self, why: str) -> None:
         """Stop the slave from its last command within slave.max_acceleration, then hold."""
@@ -342,7 +406,7 @@ class Follower:
         turns = np.floor(mapping.turns([self._last.track, track]) / TWO_PI)
         if turns[0] != turns[1]:
             crossed = max(turns) * TWO_PI * mapping.master_scaling + mapping.master_offset
-            self.phase, self._path, self._start = ENGAGED, self._joined(), float(crossed)
+            self.phase, self._path, self._start = ENGAGED, self.joined, float(crossed)
 
     def _run(self, state: MasterState) -> None:
         """Follow the path: finish a blend, hand a design over, end a one-shot cam."""
@@ -353,6 +417,9 @@ class Follower:
             self._path, self.handover = handover.new, None
         if isinstance(self._path, Blend) and self._path.done(track):
             self._path, self.phase = self._path.end, ENGAGED
+        move = self._move
+        if move is not None and (state.stamp_ns - self._move_ns) * 1e-9 >= move.duration:
+            self._move, self.phase = None, ENGAGED
         cycle = TWO_PI * self.cam.mapping.master_scaling
         if not self.config.periodic and abs(track - self._start) >= cycle:
             end = self._start + math.copysign(cycle, track - self._start)

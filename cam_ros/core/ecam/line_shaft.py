@@ -12,9 +12,10 @@ master samples and, while the master is silent, by the node's clock:
   the master turning back under a one-way axis) theta_v lags: it moves toward the master as hard as
   CHASE of the admissible accelerations allows, never faster than a stop allows, and locks again
   once it is within one step of admissible motion of the master's position and speed.
-- halted (a master loss, a fault, a disengagement, an inactive node; `why` says which): theta_v
-  decelerates as hard as the limits allow, on the path, to rest, and rests: a synchronized stop
-  (MC_Halt of the line shaft); every axis stays on its cam, so it cannot collide.
+- halted (a master loss, a fault, a disengagement, an inactive node, axes moving onto their cams;
+  `why` says which): theta_v decelerates as hard as the limits allow, on the path, to rest, and
+  rests: a synchronized stop (MC_Halt of the line shaft); every axis stays on its cam, so it
+  cannot collide. Halted before its first sample, theta_v starts at rest there.
 
 Resynchronizing (follow() after a halt, a new master origin): theta_v's target is the master's
 position taken modulo one machine cycle, ahead of theta_v when any axis is one-way, else the nearer
@@ -41,8 +42,10 @@ GAIN = 0.25
 #: band taken on the safe side over a substep's travel), over at most LONGEST_STEP s of a step
 #: (a node's clock steps it every few ms).
 SUBSTEP, SUBSTEP_TRAVEL, LONGEST_STEP = 2e-3, WINDOW - 2.0, 0.25
-#: Why theta_v is halted (the first three are said in ~/state and the diagnostics).
+#: Why theta_v is halted (said in ~/state and the diagnostics). MOVING: while axes move onto
+#: their cams (ecam.moves, planned with theta_v at rest); any other reason replaces it.
 LOST, DISENGAGED, INACTIVE = 'master lost', 'disengaged', 'inactive'
+MOVING = 'axes moving onto their cams'
 #: What theta_v does.
 LOCKED, FILTERED, STOPPING, AT_REST = 'locked', 'filtered', 'stopping', 'at rest'
 
@@ -110,11 +113,15 @@ class LineShaft:
         """Take a new design's limits (theta_v goes on from where it is)."""
         self.limits, self.one_way = limits, one_way
 
-    def halt(self, why: str) -> None:
-        """Stop theta_v within every limit, on the path, and rest (a synchronized stop)."""
+    def halt(self, why: str, idle: bool = False) -> None:
+        """Stop theta_v within every limit, on the path, and rest (a synchronized stop); idle:
+        no axis follows theta_v, so it rests where it is at once."""
         if not self.why and self.state is not None:
             self._own = self.limits.master_limit(self.state.omega)
-        self.why = self.why or why
+        self.why = why if self.why in ('', MOVING) else self.why
+        if idle and self.state is not None:
+            self.state = self.state._replace(omega=0.0, alpha=0.0)
+            self.locked = False
 
     def follow(self) -> None:
         """Follow the master again: catch up with its phase (modulo a cycle) within the limits."""
@@ -167,9 +174,10 @@ class LineShaft:
     def _step(self, stamp_ns: int) -> Virtual:
         state, target = self.state, self._target
         assert target is not None
-        if state is None:  # the first sample: theta_v starts on the master
-            self.locked = True
-            self.state = Virtual(stamp_ns, target.theta, target.omega, target.alpha, 0.0)
+        if state is None:  # the first sample: theta_v starts on the master (at rest if halted)
+            self.locked = self.following
+            self.state = Virtual(stamp_ns, target.theta, target.omega, target.alpha, 0.0) \
+                if self.following else Virtual(stamp_ns, target.theta, 0.0, 0.0, 0.0)
             return self.state
         dt = (stamp_ns - state.stamp_ns) * 1e-9
         if dt <= 0.0:

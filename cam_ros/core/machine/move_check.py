@@ -260,6 +260,14 @@ def sequence_moves(machine: Machine, moves: Mapping[str, Move],
             f'{failed.line(machine.config.length_unit)}')
 
 
+def checked_moves(machine: Machine, moves: Mapping[str, Move],
+                  master: MasterMotion) -> Union[dict[str, Move], str]:
+    """Return the moves to make (sequence_moves: together, else one after another), or why
+    none: the check of an engagement's moves on the line shaft (ecam.axes.MoveCheck)."""
+    found = sequence_moves(machine, moves, master)
+    return found if isinstance(found, str) else found.moves
+
+
 def _in_order(moves: Mapping[str, Move], order: tuple[str, ...]) -> Optional[dict[str, Move]]:
     """Return the moves delayed to go one after another in order (None: one cannot wait)."""
     ordered, delay = dict(moves), 0.0
