@@ -2,7 +2,10 @@
 
 rmw_fastrtps sends every reply to every client of the service (ros2/rmw_fastrtps#559); with
 a reply history of 10 a busy client's own reply is pushed out by the others' and never arrives.
-CamClient keeps REPLY_DEPTH replies, so every call must be answered (no retries here).
+CamClient keeps REPLY_DEPTH replies, so every call must be answered (no retries here). The
+timeout only tells a lost reply from a late one: a clean-clone CI run on a shared machine once saw
+two calls of 3,000 unanswered within 2 s (alone and beside two busy processes here p100 is under
+0.1 s), so a call counts as lost after 10 s; the latencies are reported.
 """
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ from .support import percentiles
 
 CLIENTS = 10
 CALLS = 300
-CALL_TIMEOUT_S = 2.0
+CALL_TIMEOUT_S = 10.0  # lost, not late: see the docstring
 
 
 def test_ten_client_processes_get_every_answer(heavy, start_cam_node, tmp_path, report):
