@@ -129,8 +129,9 @@ def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
     assert not {'/cam/master', SLAVE_TOPIC, '/parameter_events'} & recording.outputs
 
     # The run: held at the axis's position, a move onto the cam from the message after the
-    # engage call (the line shaft resting where it was: nothing followed it); after the disengage call the line shaft stops on
-    # the cam (no limits: over master.engage_distance_deg, 30 deg, from its speed) and rests.
+    # engage call (the line shaft resting where it was: nothing followed it); after the
+    # disengage call the line shaft stops on the cam (no limits: over
+    # master.engage_distance_deg, 30 deg, from its speed) and rests.
     position = np.array([m.position[1] for m in answers])
     taken_stamps = np.array([stamp_of(m) for m in taken])
     engaged = np.searchsorted(taken_stamps, engaged_after, side='right')

@@ -10,11 +10,11 @@ starts and stops as one, and never leaves its cams for it); while the master is 
 clock steps it (tick).
 
 An engagement that moves an axis off its cam (Follower.needs_move: from where its drive is) is
-made with the line shaft at rest: it halts (MOVING; at once where no axis follows it), each such axis plans its move (ecam.moves)
-once it rests, the moves begun together are checked against the machine's interference pairs
-(check: given by whoever knows the machine; the moves as they are, delayed one after another, or
-refused with the pair that collides), and once every axis is on its cam the line shaft catches
-up with the master.
+made with the line shaft at rest: it halts (MOVING; at once where no axis follows it), each such
+axis plans its move (ecam.moves) once it rests, the moves begun together are checked against the
+machine's interference pairs with every other axis on its cam or where it holds (check: given by
+whoever knows the machine; the moves as they are, delayed one after another, or refused with the
+pair that collides), and once every axis is on its cam the line shaft catches up with the master.
 
 From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.steady: engaged on
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
@@ -38,7 +38,7 @@ from .follow import END_OF_PROFILE, ENGAGED, Follower, RUNNING, WAITING_CYCLE
 from .line_shaft import AT_REST, DISENGAGED, LineShaft, MOVING, Virtual
 from .master import ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .moves import MasterMotion, Move, on_cam
+from .moves import MasterMotion, Move
 from .path_limits import PathLimits
 
 #: Fewest axes whose steady commands come from the compiled tables: one pass costs about as much
@@ -179,8 +179,7 @@ class SlaveAxes:
                  if follower.move is not None and follower.move not in self._checked]
         if begun and self.check is not None:
             master = MasterMotion(state.track, 0.0)
-            found = self.check({name: follower.move or on_cam(follower.joined, follower.limits,
-                                                              master)
+            found = self.check({name: follower.during(master)
                                 for name, follower in zip(self.names, followers)}, master)
             for name, follower in zip(self.names, followers):
                 if follower.move not in begun:

@@ -46,7 +46,7 @@ from .engage import Blend, Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .moves import AxisState, MasterMotion, Move, plan_move
+from .moves import AxisState, MasterMotion, Move, on_cam, plan_move
 from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks, Plan,
                            plan_blend, plan_speed, shifted, SlaveLimits)
 from .stop import Stop
@@ -127,6 +127,16 @@ class Follower:
     def move(self) -> Optional[Move]:
         """Return the move onto the cam under way (None: none)."""
         return self._move
+
+    def during(self, master: MasterMotion) -> Move:
+        """Return what the slave does while others move onto their cams: its own move, its
+        cam, or the position it holds."""
+        origin = self._origin()
+        if self._move is not None:
+            return self._move
+        if self.phase in RUNNING or origin is None:
+            return on_cam(self.joined, self.limits, master)
+        return on_cam(Held(origin), self.limits, master)
 
     @property
     def status(self) -> str:
@@ -273,10 +283,11 @@ class Follower:
     def _moved(self, point: Setpoints, state: MasterState, ahead: Any) -> Setpoints:
         """Add the move's offset from the cam (moves.Move.relative) at ahead s after state."""
         assert self._move is not None
-        e, de, dde, d3e = self._move.relative((state.stamp_ns - self._move_ns) * 1e-9 + ahead)
-        if np.ndim(e) == 0 or isinstance(point.position, float):
-            e, de, dde, d3e = (float(np.asarray(value).reshape(-1)[0]) for value in
-                               (e, de, dde, d3e))
+        offsets: tuple[Any, ...] = self._move.relative(
+            (state.stamp_ns - self._move_ns) * 1e-9 + ahead)
+        if isinstance(point.position, float):  # one sample: floats, as chain_rule's
+            offsets = tuple(float(np.asarray(value).reshape(-1)[0]) for value in offsets)
+        e, de, dde, d3e = offsets
         return Setpoints(point.cam_angle, point.position + e, point.velocity + de,
                          point.acceleration + dde, point.jerk + d3e)
 
@@ -345,10 +356,6 @@ class Follower:
     def _begin(self, state: MasterState) -> None:
         """Start an engagement at this master sample in the configured mode."""
         track, origin, mode = state.track, self._origin(), self.config.mode
-        problem = self._cam_problem(plan_speed(state.omega, self.config.nominal_speed))
-        if problem:
-            self.phase, self.reason = HOLDING, problem
-            return
         self._pending, self.reason = False, ''
         self.phase, self._path, self._start = ENGAGED, self.joined, track
         if origin is None:

@@ -49,6 +49,7 @@ from ruckig import InputParameter, Ruckig, RuckigError, Trajectory
 
 from ..cam_angles import TWO_PI
 from ..extremes import refine_extremum, refine_extrema
+from .engage import SlavePath
 from .master import ElectronicCam
 from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks,
                            PLAN_MARGIN, SAMPLES_PER_RAD, shifted, SlaveLimits)
@@ -160,7 +161,7 @@ class Profile(NamedTuple):
 class Move:
     """One axis's move onto its cam (see the module): cam + e(t - delay)."""
 
-    cam: ElectronicCam  # the cam joined (a rotary axis's at the whole turns chosen)
+    cam: SlavePath  # the cam joined (a rotary axis's at the whole turns chosen), or Held
     limits: SlaveLimits
     master: MasterMotion
     start: AxisState
@@ -221,7 +222,7 @@ class Move:
 
     def grid(self) -> np.ndarray:
         """Return sample times over [0, duration] dense enough to locate the move's extremes."""
-        scaling = self.cam.mapping.master_scaling
+        scaling = self.cam.mapping.master_scaling if isinstance(self.cam, ElectronicCam) else 1.0
         count = max(FEWEST_SAMPLES, SAMPLES_PER_PIECE * (self.profile.start.size + 1),
                     math.ceil(abs(self.master.omega) * self.duration / scaling
                               * SAMPLES_PER_RAD))
@@ -245,8 +246,9 @@ class Move:
         return MovePeaks(*(value for value, _ in found))
 
 
-def on_cam(cam: ElectronicCam, limits: SlaveLimits, master: MasterMotion) -> Move:
-    """Return the move of an axis that stays on its cam: none, of duration 0."""
+def on_cam(cam: SlavePath, limits: SlaveLimits, master: MasterMotion) -> Move:
+    """Return the move of an axis that stays on its cam (or on a Held position, whatever
+    theta_v does): none, of duration 0."""
     d = cam.derivatives(master.theta)
     w = master.omega
     none = np.empty(0)

@@ -1,0 +1,96 @@
+"""A machine's engagement on the line shaft (ecam/axes.py): every axis moves onto its cam in time
+with the line shaft at rest, the moves checked against the interference pairs (the machine's
+check, core/machine/move_check.py), then the line shaft catches up with the master.
+
+Every assertion reads the commands SlaveAxes returns, sample by sample, against the pairs of
+config/machine.yaml written out here: gap = 310 mm - feeder - jaw >= 15 mm.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from conftest import CONFIG_DIR
+
+from cam_ros.core import read_parameters_file
+from cam_ros.core.ecam.axes import SlaveAxes
+from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING
+from cam_ros.core.ecam.line_shaft import AT_REST, LOCKED
+from cam_ros.core.ecam.master_tracker import MasterState
+from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
+from cam_ros.core.machine.move_check import checked_moves
+from cam_ros.core.machine.served import machine_from_values
+
+DEG = math.pi / 180.0
+#: A pusher slower than the jaw: 0.2 m/s, 4 m/s^2 (test_move_check's).
+SLOW_PUSHER = {'feeder.slave.max_velocity': 200.0, 'feeder.slave.max_acceleration': 4000.0}
+PERIOD = 1_000_000  # ns: 1 kHz
+
+
+def machine_axes(present, idle=(), **changes):
+    """Return config/machine.yaml's machine (with changes) and its SlaveAxes, each axis's drive
+    reporting present[name] (m or rad; an axis not named starts on its cam), engaging but the
+    axes named in idle."""
+    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
+    values.update(changes)
+    shop = machine_from_values(values)
+    followers = []
+    for axis in shop.axes:
+        config = axis.design.config
+        follower = Follower(axis.cam, EngageConfig.from_parameters(config.parameters),
+                            axis.name not in idle,
+                            SlaveLimits.from_config(config), AxisUnit.of(config))
+        follower.present = present.get(axis.name)
+        followers.append(follower)
+    axes = SlaveAxes([axis.name for axis in shop.axes], followers, ['position'] * 3,
+                     lambda moves, master: checked_moves(shop, moves, master))
+    return shop, axes
+
+
+def run(axes, theta, seconds, omega=0.0):
+    """Feed master samples from theta at speed omega; return each axis's commands (rows)."""
+    rows = []
+    for k in range(round(seconds * 1e9 / PERIOD)):
+        q = theta + omega * k * PERIOD * 1e-9
+        commands = axes.command(MasterState(k * PERIOD, q, omega, 0.0, omega * PERIOD * 1e-9,
+                                            q))
+        rows.append(commands.position)
+    return np.array(rows)
+
+
+def test_moves_that_would_collide_together_go_one_after_another_and_keep_the_gap():
+    shop, axes = machine_axes({'feeder': 0.24, 'jaw': 0.0}, **SLOW_PUSHER)
+    commands = run(axes, 240.0 * DEG, 1.5)
+    feeder, jaw = commands[:, 0], commands[:, 2]
+    gap = 0.31 - feeder - jaw
+    assert gap.min() >= 0.015  # on the commands themselves
+    # Together they would not: the jaw closes in 0.09 s, the slow pusher takes longer.
+    assert feeder[0] == 0.24 and jaw[0] == 0.0
+    backed_off = int(np.argmax(np.abs(feeder - feeder[-1]) <= 1e-12))  # on its cam
+    assert backed_off > 0 and np.all(jaw[:backed_off] == 0.0)  # the jaw waits, open
+    assert jaw[-1] == float(shop.axis('jaw').cam.setpoints(240.0 * DEG).position)
+    assert [follower.phase for follower in axes.followers] == [ENGAGED] * 3
+    assert axes.shaft.following and axes.shaft.mode == LOCKED  # the master rests: locked
+    assert any('moves onto its cam' in event for event in axes.events())
+
+
+def test_moves_that_collide_in_every_order_are_refused_and_every_axis_holds():
+    shop, axes = machine_axes({'feeder': 0.24, 'jaw': 0.08})
+    commands = run(axes, 100.0 * DEG, 0.3, omega=2.0)
+    assert np.all(commands[:, 0] == 0.24) and np.all(commands[:, 2] == 0.08)
+    feeder, _, jaw = axes.followers
+    assert feeder.phase == jaw.phase == HOLDING
+    assert feeder.reason.startswith('the moves collide together or one after another: '
+                                    'clearance feeder-jaw: smallest gap -')
+    assert axes.shaft.mode == AT_REST and axes.shaft.why.startswith('not engaged: feeder: ')
+    assert not axes.engaged
+
+
+def test_an_axis_left_disengaged_is_checked_where_it_holds():
+    # The pusher stays out at 240 mm, not engaged; the jaw's move would close onto it.
+    shop, axes = machine_axes({'feeder': 0.24, 'jaw': 0.0}, idle=('feeder',))
+    commands = run(axes, 240.0 * DEG, 0.3)
+    assert np.all(commands[:, 0] == 0.24) and np.all(commands[:, 2] == 0.0)
+    jaw = axes.followers[2]
+    assert jaw.phase == HOLDING and jaw.reason.startswith(
+        'the moves collide together: clearance feeder-jaw: smallest gap -')
