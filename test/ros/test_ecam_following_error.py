@@ -8,7 +8,10 @@ reference less the report, to 1e-12. The fault fires at the
 first report whose error has stayed over the limit for slave.following_error_time, not before;
 it is said once. The line shaft then stops every axis on its cam (no stop in one message);
 ~/engage true is refused while the pusher's error is over its limit, accepted once the drive has
-caught up, and the line shaft catches up with the master from rest, without a step.
+come back within it (3 mm short of its command): the pusher's command is set to where its drive
+is (as a drive's own reset does: no motion), it moves onto its cam in time with the line shaft at
+rest, checked against the pairs, and the line shaft catches up with the master, without a step;
+the pairs are kept on every command.
 """
 from __future__ import annotations
 
@@ -120,8 +123,9 @@ def test_a_stalled_axis_faults_the_machine_after_its_time_and_engage_recovers(
     assert not answer.success and 'following error of feeder' in answer.message
     assert 'over slave.following_error_limit' in answer.message
 
-    # The drive catches up with its command: the error is back within the limit; cleared.
-    report = JointState(name=list(NAMES), position=held.tolist())
+    # The drive comes back within the limit, 3 mm short of its command; cleared.
+    back_at = held - np.array([0.003, 0.0, 0.0])
+    report = JointState(name=list(NAMES), position=back_at.tolist())
     report.header = after[-1].header
     count = len(states.messages)
     axis.publish(report)
@@ -130,13 +134,23 @@ def test_a_stalled_axis_faults_the_machine_after_its_time_and_engage_recovers(
     assert answer.success, answer.message
     assert 'following error of feeder cleared' in process.log()
 
-    # The line shaft catches up with the master from rest, without a step, then is exact.
-    # (stamped on the master's clock, which ran on while the machine stood: 20 s on)
+    # The pusher moves onto its cam from where its drive is; then the line shaft catches up
+    # with the master from rest, without a step, and is exact. (Stamped on the master's
+    # clock, which ran on while the machine stood: 20 s on.)
     _, back = constant_speed(START_NS + 20 * 10 ** 9, speed * DT * 400, speed, 400, DT)
     link.send(back)
     sent, answers = link.answered(back)
-    first = np.array(answers[0].position[1:])
-    assert np.abs(first - held).max() < 1e-3  # m (the knife: rad); a step would show
+    moved = np.array([a.position[1:] for a in answers])
+    assert moved[0, 0] == back_at[0]  # from where the drive is
+    onto = int(np.argmax(np.abs(moved[:, 0] - held[0]) <= 1e-12))  # on its cam again
+    assert onto > 1 and np.all(np.diff(moved[:onto + 1, 0]) >= 0.0)  # straight there
+    # The others wait on their cams (the exact path's rounding, not the table's: ulps).
+    np.testing.assert_allclose(moved[:onto + 1, 1:], np.tile(held[1:], (onto + 1, 1)), rtol=0,
+                               atol=1e-12)
+    assert 'feeder: moves onto its cam: 0.003 m (3 mm)' in process.log()
+    gap = 0.31 - moved[:, 0] - moved[:, 2]  # the pairs on every command
+    assert gap.min() >= 0.015
+    assert not ((moved[:, 2] > 0.06) & (np.degrees(moved[:, 1]) % 360.0 > 320.0)).any()
     exact = machine.positions(np.array([m.position[0] for m in sent[-100:]]))
     actual = np.array([a.position[1:] for a in answers[-100:]])
     turns = np.round((actual[:, 1] - exact[:, 1]) / (2 * np.pi))  # the knife, on whole turns
