@@ -213,11 +213,12 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        'check)', unit='rad/s', minimum=0.0, maximum=1e6),
     _p('master.engage_on_start', 'bool', True, 'Engage the slave on the cam at start-up (else '
        'it waits for ~/engage)'),
-    _p('master.engage_mode', 'string', 'ramp', 'How the slave joins the cam (~/engage, start-up, '
-       'master return): at once, on a blend over engage_distance_deg, or at the next cycle '
-       'start', choices=('immediate', 'ramp', 'next_cycle')),
-    _p('master.engage_distance_deg', 'double', 30.0, 'Master travel of an engage ramp and of an '
-       'offset change\'s blend', unit='deg', minimum=1e-3, maximum=1e6),
+    _p('master.engage_mode', 'string', 'ramp', 'How the slave joins the cam (~/engage, '
+       'start-up): at once, by a move in time within its limits, or at the next cycle start',
+       choices=('immediate', 'ramp', 'next_cycle')),
+    _p('master.engage_distance_deg', 'double', 30.0, 'Master travel of an offset change\'s '
+       'blend, and of the line shaft\'s stop for an axis without limits', unit='deg',
+       minimum=1e-3, maximum=1e6),
     _p('master.periodic', 'bool', True, 'Repeat the cam every cycle (false: a one-shot cam that '
        'holds its end position one master cycle after it starts)'),
     _p('master.velocity_window', 'double', 0.02, 'Master positions the speed estimate fits (0: '
