@@ -49,13 +49,14 @@ from cam_ros.node.ecam_log import EcamLog
 from cam_ros.node.slave_feedback import SLAVE_QOS, SlaveFeedback, watches
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
 from cam_ros.node.command_topics import COMMAND_QOS, CommandTopics
+from cam_ros.node.shaft_clock import PERIOD_S as CLOCK_PERIOD_S, ShaftClock
 from cam_ros.node.qos_events import LATCHED, publisher
 
 DIAGNOSTICS_PERIOD_S = 1.0
-#: The line shaft's clock: its period, and the master silence after which it steps the line
-#: shaft instead of the master's messages: COAST_INTERVALS of the master's own intervals, at
-#: least COAST_SHARE of master.timeout (a master's jitter is not silence).
-CLOCK_PERIOD_S, COAST_INTERVALS, COAST_SHARE = 0.005, 3, 0.1
+#: The master silence after which the line shaft's clock steps it instead of the master's
+#: messages: COAST_INTERVALS of the master's own intervals, at least COAST_SHARE of
+#: master.timeout (a master's jitter is not silence).
+COAST_INTERVALS, COAST_SHARE = 3, 0.1
 #: Longest deactivate waits for the synchronized stop to come to rest.
 STOP_WAIT_S = 10.0
 
@@ -136,11 +137,7 @@ class MasterFollower:
         self._master_sub = self._intake.entity
         self._watch_timer = node.create_timer(self._config.timeout / 4.0, self._watch)
         node.create_timer(DIAGNOSTICS_PERIOD_S, self._publish_diagnostics)
-        self._clock_stop = threading.Event()
-        self._clock = threading.Thread(target=self._run_clock, name='line shaft clock',
-                                       daemon=True)
-        self._clock.start()
-        node.context.on_shutdown(self._end_clock)  # before rclpy finalizes its logging
+        self._clock = ShaftClock(node, self._lock, self._tick)
         self._publish_state()
         interfaces = ', '.join(f'{name} {interface}' for name, interface in
                                zip(self._axes.names, self._axes.interfaces))
@@ -209,15 +206,8 @@ class MasterFollower:
 
     def stop(self) -> None:
         """Stop taking master messages and the clock (before the node is destroyed)."""
-        self._end_clock()
+        self._clock.end()
         self._intake.stop()
-
-    def _end_clock(self, wait_s: float = 1.0) -> None:
-        """End the clock thread, waiting for a step under way (at most wait_s: a shutdown may
-        come while this thread holds the lock the step waits for)."""
-        self._clock_stop.set()
-        if self._clock is not threading.current_thread():
-            self._clock.join(wait_s)
 
     def activate(self) -> None:
         """Send commands again: the line shaft catches up with the master."""
@@ -322,18 +312,6 @@ class MasterFollower:
         self._rested = self._axes.resting
         if self._rested:
             self._history.stop()
-
-    def _run_clock(self) -> None:
-        """Step the line shaft while the master is silent or it stops (its own thread, so a
-        busy executor cannot hold a stop up)."""
-        while not self._clock_stop.wait(CLOCK_PERIOD_S):
-            with self._lock:
-                try:
-                    self._tick()
-                except Exception as err:  # a bug must cost one step, not the clock
-                    if self._node.context.ok():
-                        self._node.get_logger().error(f'line shaft step failed: {err!r}',
-                                                      throttle_duration_sec=5.0)
 
     def _tick(self) -> None:
         """Step the line shaft on the clock once the master has been silent for
