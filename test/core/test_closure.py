@@ -14,8 +14,9 @@ import pytest
 
 from cam_ros.core import build_design, InvalidParameter
 from cam_ros.core.config.schema import parse_parameters
-from cam_ros.core.geometry.closure import (conjugate_follower, constant_breadth, groove_contours,
-                                           groove_flanks)
+from cam_ros.core.geometry.cam_geometry import cam_geometry
+from cam_ros.core.geometry.closure import (conjugate_follower, ConjugateRoller, constant_breadth,
+                                           groove_contours, groove_flanks, second_roller_problem)
 from cam_ros.core.geometry.followers import (OscillatingRoller, TranslatingFlat,
                                              TranslatingRoller)
 from cam_ros.core.geometry.machining import cam_contour
@@ -353,3 +354,44 @@ def test_a_conjugate_yoke_without_offset_reports_its_constant_breadth_spread():
     assert not breadth.holds
     assert breadth.spread == pytest.approx(spread, rel=1e-9) and breadth.spread >= spread
     assert build_design(config(**{'follower.closure': 'force'})).closure is None
+
+
+def test_a_yokes_roller_two_is_refused_once_it_reaches_the_cam_centre():
+    """Roller 2's centre is at height d + s - B: refused as soon as d + max(s) >= B on the
+    samples, the tie included; conjugate_follower's B = 2 d + min s + max s always clears it."""
+    follower = TranslatingRoller(30 * MM, 8 * MM, 4 * MM)
+    theta = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    values = SEED.evaluate(theta)
+    d = follower.prime_height
+    reach = d + values.s.max()
+    for spacing, refused in ((0.5 * reach, True), (reach, True),
+                             (reach * (1 + 1e-12), False), (2 * d + RISE, False)):
+        second = ConjugateRoller(30 * MM, 8 * MM, 4 * MM, spacing)
+        if refused:
+            with pytest.raises(InvalidParameter, match='roller 2 must stay below the cam centre'):
+                cam_geometry(second, theta, values.s, values.ds, values.d2s)
+        else:
+            cam_geometry(second, theta, values.s, values.ds, values.d2s)
+    assert second_roller_problem(follower, SEED, 0.0) is None
+
+
+def test_arm_two_is_refused_exactly_where_its_angle_leaves_zero_to_pi():
+    """Arm 2 stands at psi0 + s - gamma + pi (the arm turned back by gamma): the pair is refused
+    for a conjugate angle gamma exactly when that leaves (0, pi) over the swing (dense)."""
+    swing = 15 * DEG
+    program = MotionProgram((Segment(make_law('cycloidal'), 0.0, math.pi, 0.0, swing),
+                             Segment(make_law('cycloidal'), math.pi, 2 * math.pi, swing, 0.0)))
+    first = OscillatingRoller(30 * MM, 8 * MM, 90 * MM, 70 * MM, True)
+    s = program.evaluate(DENSE).s
+    low, high = first.initial_arm_angle + s.min() + math.pi, first.initial_arm_angle + s.max()
+    verdicts = []
+    for gamma in np.linspace(1 * DEG, 359 * DEG, 359):
+        ends = (low - gamma, high + math.pi - gamma)
+        if min(abs(end - edge) for end in ends for edge in (0.0, math.pi)) < 1e-6:
+            continue  # a tie with the edge: the samples decide
+        problem = second_roller_problem(first, program, gamma)
+        verdicts.append(problem is None)
+        assert verdicts[-1] == (ends[0] > 0.0 and ends[1] < math.pi), gamma
+        if problem is not None:
+            assert 'the second roller cannot follow' in problem and 'arm angle' in problem
+    assert any(verdicts) and not all(verdicts)

@@ -254,3 +254,21 @@ def test_the_optimum_is_the_apex_of_the_kinematics_notes_wedge(clockwise):
     assert cam.governing == 'pressure_angle_rise_and_return'
     assert cam.prime_radius == pytest.approx(math.hypot(x, d), rel=1e-8)
     assert cam.offset == pytest.approx((-1 if clockwise else 1) * x, rel=1e-7)
+
+
+@pytest.mark.parametrize('motion', [SEED, STEEP], ids=['seed', 'steep'])
+def test_a_lax_return_limit_puts_the_optimum_at_the_foot_of_the_rise_line(motion, clockwise):
+    """Rise at 60 deg, return at 89: one line binds, d >= -A - x cot L with
+    A = min(s - s' cot L) over the rise; the smallest cam is the foot of the perpendicular from
+    the origin on it (prime radius -A sin L), not a meeting of two lines (and the polar scan)."""
+    rise, ret = 60 * DEG, 89 * DEG
+    cam = smallest_cam(1 * CM, motion, max_pressure_angle=rise, max_pressure_angle_return=ret,
+                       clockwise=clockwise)
+    prime, offset = polar_scan(motion, rise, ret, clockwise)
+    assert cam.governing == 'pressure_angle_rise'
+    assert cam.prime_radius == pytest.approx(prime, rel=1e-6)
+    assert cam.offset == pytest.approx(offset, rel=1e-4, abs=1e-8)
+    # the foot's closed form: the line d = -A - x cot L at distance A sin L from the origin
+    values = motion.evaluate(DENSE)
+    a = np.min((values.s - values.ds / math.tan(rise))[values.ds >= 0])
+    assert cam.prime_radius == pytest.approx(-a * math.sin(rise), rel=1e-7)

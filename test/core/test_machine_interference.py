@@ -185,3 +185,26 @@ def test_each_check_names_its_pair_in_the_files_order():
     checks = check_interference(machine)
     assert [check.pair for check in checks] == list(machine.config.interference)
     assert [check.pair.type for check in checks] == ['clearance', 'zones']
+
+
+@pytest.mark.parametrize('level, value', [(0.0, -math.inf), (80.0, math.inf)],
+                         ids=['touched from above', 'touched from below'])
+def test_a_zone_level_touched_but_never_crossed(level, value):
+    """The jaw rises and returns without a dwell: 0 mm and 80 mm only at (or a rounding from)
+    0 and 180 deg, samples of the check's grid. Touching its level from above, the jaw is in its
+    zone the whole cycle but at a point (a full turn: it collides where the knife enters, found
+    by the dense scan); from below never in it."""
+    machine = machine_with(jaw__motion__laws=['cycloidal', 'cycloidal'],
+                           jaw__motion__start_deg=[0.0, 180.0],
+                           jaw__motion__end_deg=[180.0, 360.0],
+                           jaw__motion__start_position=[0.0, 80.0],
+                           jaw__motion__end_position=[80.0, 0.0],
+                           interference__zone_a=[0.0, level])
+    jaw, knife = file_y(machine, 'jaw'), file_y(machine, 'knife')
+    side = -np.sign(value) * (jaw(SCAN) - level)  # >= 0: the side the jaw keeps to
+    assert side.min() == 0.0 and np.count_nonzero(side == 0.0) < 10  # touched, never crossed
+    zones = check_interference(machine)[1]
+    assert zones.value == value and zones.ok is (value > 0)
+    if value < 0:
+        roots, entering = crossings(lambda t: knife(t) - 320.0)
+        assert zones.at == pytest.approx(roots[entering][0], abs=1e-9)

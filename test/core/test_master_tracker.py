@@ -219,3 +219,44 @@ def test_a_master_far_faster_than_cam_speed_is_not_taken_for_jumps_after_a_loss(
     states = run(tracker, later, [100.0 + 30.0 * t * 1e-9 for t in later])
     assert tracker.jumps == 0 and not any(state.origin for state in states)
     assert states[-1].omega == pytest.approx(30.0)
+
+
+def test_an_encoder_of_minus_pi_to_pi_sending_exactly_minus_pi_still_wraps():
+    """At pi rad/s every 10 ms, sample 100 is at pi: such an encoder sends -pi. The track stays
+    the unwrapped pi k / 100 (the position -pi is in the wrapping range, not multi-turn)."""
+    stamps = [k * 10_000_000 for k in range(151)]
+    positions = [(math.pi * k / 100 + math.pi) % (2 * math.pi) - math.pi for k in range(151)]
+    positions[100] = -math.pi
+    tracker = MasterTracker(SECOND)
+    states = run(tracker, stamps, positions)
+    assert not tracker.multi_turn and tracker.jumps == 0
+    track = np.array([state.track for state in states]) - states[0].track
+    np.testing.assert_allclose(track, math.pi * np.arange(151) / 100, rtol=0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize('off, is_origin', [(0.05, False), (0.07, True)])
+def test_the_plausible_speed_is_the_last_speed_when_over_ten_times_nominal(off, is_origin):
+    """30 rad/s with 1 rad/s at cam_speed: a travel off the prediction by more than
+    2 x max(30, 10 x 1) rad/s x 1 ms = 0.06 rad is a new origin, by less it is not."""
+    tracker = MasterTracker(SECOND, nominal=1.0)
+    stamps = [k * 1_000_000 for k in range(10)]
+    run(tracker, stamps, [100.0 + 30.0 * t * 1e-9 for t in stamps])
+    state = tracker.accept(10_000_000, 100.0 + 0.3 + off, None, 10_000_000)
+    assert state.origin is is_origin and tracker.jumps == int(is_origin)
+
+
+@pytest.mark.parametrize('positions, origins', [
+    ([20.0, 20.0, 21.0], [False, False, False]),  # the third: not judged
+    ([20.0, 20.0, 20.0, 21.0], [False, False, False, True])])  # the fourth: judged
+def test_after_a_loss_the_first_three_samples_are_taken_as_they_come_as_at_the_start(
+        positions, origins):
+    """The speed is known again after KNOWN_SPEED (3) samples: the fourth is the first judged,
+    from scratch and after a loss alike (a jump of 1 rad in 1 ms, 1 rad/s nominal)."""
+    stamps = [k * 1_000_000 for k in range(len(positions))]
+    fresh = MasterTracker(SECOND // 2, nominal=1.0)
+    first = run(fresh, stamps, positions)
+    back = MasterTracker(SECOND // 2, nominal=1.0)
+    run(back, [k * 1_000_000 for k in range(5)], [20.0] * 5)
+    assert back.check(5 * SECOND) == LOST
+    later = run(back, [6 * SECOND + stamp for stamp in stamps], positions)
+    assert [state.origin for state in first] == [state.origin for state in later] == origins

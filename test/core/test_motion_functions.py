@@ -94,3 +94,27 @@ def test_a_3_4_5_rise_between_dwells_is_one_rest_to_rest_quintic():
     assert function.kinds == (LINE, REST_QUINTIC, LINE, REST_QUINTIC)
     np.testing.assert_allclose(function.ds, 0.0, rtol=0, atol=1e-15)  # at rest at every point
     np.testing.assert_allclose(function.d2s, 0.0, rtol=0, atol=1e-12)
+
+
+def test_a_3_4_5_segment_ending_where_the_velocity_jumps_is_pieced_within_the_tolerance():
+    """Each 3-4-5 rise or return ends at rest where a constant velocity starts (the return at
+    the cycle's end, where the first segment starts): a point holds one velocity, so both are
+    pieced, and the quintic through each interval's points (a 6 x 6 solve here) stays within
+    the tolerance of the design (2001 angles per interval)."""
+    tolerance = 1e-6
+    program = MotionProgram((Segment(make_law('constant_velocity'), 0.0, 90 * K, 0.0, 0.01),
+                             Segment(make_law('polynomial_345'), 90 * K, 180 * K, 0.01, 0.02),
+                             Segment(make_law('constant_velocity'), 180 * K, 270 * K, 0.02,
+                                     0.03),
+                             Segment(make_law('polynomial_345'), 270 * K, 360 * K, 0.03, 0.0)))
+    function = motion_function(program, tolerance)
+    assert set(function.pieced) == {1, 3} and function.max_error <= tolerance
+    for i, kind in enumerate(function.kinds):
+        x0, x1 = function.angle[i:i + 2]
+        x = np.linspace(x0, x1, 2001)
+        if kind == LINE:
+            fitted = np.interp(x, [x0, x1], function.s[i:i + 2])
+        else:
+            values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
+            fitted = quintic(x0, x1, *values, x)
+        assert np.abs(fitted - program.evaluate(x).s).max() <= tolerance, (i, kind)

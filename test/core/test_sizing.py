@@ -361,3 +361,33 @@ def test_separate_rise_and_return_limits_size_each_side_in_closed_form(
                               max_pressure_angle_return=return_limit)
     assert sizing.base_radius == pytest.approx(math.hypot(height, offset) - 0.01,
                                                abs=CLOSED_FORM_TOL)
+
+
+@pytest.mark.parametrize('limit, candidate', [(0.0863416, 256), (0.0865170, 255)],
+                         ids=['the last scanned', 'the last before a sampled failure'])
+def test_a_range_failing_only_between_the_samples_ends_at_the_exact_boundary(limit, candidate):
+    """On 360 samples the oscillating flat's smallest convex radius meets the limit at a radius
+    the search scans (candidate/257 of the 90 mm bound: the last one, or the last before one
+    that fails on the samples too); refined on the exact motion it fails there. The range's
+    upper end is where the exact check (check_geometry, refined on the motion, 7200 samples)
+    stops holding, below that radius, not the search bound."""
+    template = OscillatingFlat(0.03, 0.09, 0.0, False)
+    theta = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+    values = OSCILLATION.evaluate(theta)
+    sizing = size_base_radius(template, theta, values.s, values.ds, values.d2s,
+                              program=OSCILLATION, min_radius=limit)
+
+    def holds(base_radius, samples=None):
+        follower = dataclasses.replace(template, base_radius=base_radius)
+        if samples is not None:
+            return check_geometry(cam_geometry(follower, samples[0], *samples[1:]),
+                                  min_radius=limit).radius_ok
+        motion = OSCILLATION.evaluate(GRID)
+        return check_geometry(cam_geometry(follower, GRID, motion.s, motion.ds, motion.d2s),
+                              program=OSCILLATION, min_radius=limit).radius_ok
+    scanned = 0.09 * candidate / 257
+    assert holds(scanned, (theta, values.s, values.ds, values.d2s)) and not holds(scanned)
+    low, high = sizing.base_radius, sizing.max_base_radius
+    assert sizing.max_governing == 'radius' and low < high < scanned
+    assert holds(low) and holds(high)
+    assert not holds(low * (1 - 1e-9)) and not holds(high * (1 + 1e-9))

@@ -154,3 +154,33 @@ def test_samples_bunched_at_one_end_give_the_least_squares_line():
     assert omega == pytest.approx(slope, rel=1e-9) and alpha == 0.0
     omegas, _ = run(0.05, np.array(times), np.array(positions))
     assert omegas[-1] == pytest.approx(slope, rel=1e-9)
+
+
+def bunch_ratio(times):
+    """Return det / (n s2 s4) of the quadratic's normal equations (u = (t - t_n) / span)."""
+    t = np.array(times, dtype=float)
+    u = (t - t[-1]) / (t[-1] - t[0])
+    moments = np.vander(u, 3, increasing=True)
+    normal = moments.T @ moments
+    return np.linalg.det(normal) / (t.size * normal[1, 1] * normal[2, 2])
+
+
+@pytest.mark.parametrize('width_ns, quadratic', [(3_000, False), (30_000, True)])
+def test_the_line_takes_over_exactly_below_the_documented_determinant(width_ns, quadratic):
+    """One sample, then 19 bunched within width_ns a second later, on q = 3 t + 5 t^2: below
+    det = 1e-10 n s2 s4 (numpy's determinant here) the least-squares line, above it the
+    quadratic, exact (omega 3 + 10 t, alpha 10); both against np.polyfit."""
+    times = [0] + [1_000_000_000 - width_ns + k * width_ns // 18 for k in range(19)]
+    assert times[-1] == 1_000_000_000
+    ratio = bunch_ratio(times)
+    assert bool(ratio > 1e-10) is quadratic and 1e-12 < ratio < 1e-8  # a decade off 1e-10
+    seconds = np.array(times) * 1e-9
+    positions = 3.0 * seconds + 5.0 * seconds ** 2
+    omega, alpha, _ = fit_speed(times, positions.tolist())
+    if quadratic:
+        assert omega == pytest.approx(3.0 + 10.0 * seconds[-1], rel=1e-6)
+        assert alpha == pytest.approx(10.0, rel=1e-4)
+    else:
+        slope, _ = np.polyfit(seconds - seconds[-1], positions, 1)
+        assert omega == pytest.approx(slope, rel=1e-9) and alpha == 0.0
+        assert abs(omega - 13.0) > 0.1  # not the quadratic's
