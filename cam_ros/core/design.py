@@ -149,7 +149,18 @@ class CamDesign:
         return self.evaluate(np.linspace(0.0, TWO_PI, count, endpoint=False))
 
     def geometry(self, count: int = CHECK_SAMPLES) -> CamGeometry:
-        """Return the cam's geometry (pitch curve, surface, ...) at count angles from 0."""
+        """Return the cam's geometry (pitch curve, surface, ...) at count angles from 0.
+
+        The check's (CHECK_SAMPLES) is computed once: building the design validates it, the
+        check refines it (CamGeometry is frozen, its arrays read-only).
+        """
+        return self._checked_geometry if count == CHECK_SAMPLES else self._geometry(count)
+
+    @cached_property
+    def _checked_geometry(self) -> CamGeometry:
+        return self._geometry(CHECK_SAMPLES)
+
+    def _geometry(self, count: int) -> CamGeometry:
         theta = np.linspace(0.0, TWO_PI, count, endpoint=False)
         motion = self.surface.evaluate(theta)
         return cam_geometry(self.cam_follower, theta, motion.s, motion.ds, motion.d2s,

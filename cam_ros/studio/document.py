@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import math
 import threading
+from functools import lru_cache
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -23,6 +24,8 @@ from cam_ros.core.config.params_file import NODE_NAMES, parse_yaml
 
 #: A value as the page shows it: the text of a scalar, or a list of them.
 Text = Any
+#: Scalar texts whose values are kept (a YAML scalar is immutable): a few large machines' worth.
+TYPED_KEPT = 8192
 
 
 def scalar_text(value: Any) -> str:
@@ -49,6 +52,12 @@ def typed_value(key: str, text: Text) -> Any:
         return [typed_value(f'{key}[{index}]', item) for index, item in enumerate(text)]
     if not isinstance(text, str):
         raise InvalidParameter(key, text, 'must be typed as text')
+    return _typed_scalar(key, text)
+
+
+@lru_cache(maxsize=TYPED_KEPT)
+def _typed_scalar(key: str, text: str) -> Any:
+    """Return a scalar text's value, kept: the page sends every text with each edit."""
     value = parse_yaml(text, key, text) if text.strip() else ''
     if isinstance(value, (Mapping, list)) or value is None:
         raise InvalidParameter(key, text, 'must be one value (a number, a word, true or false)')

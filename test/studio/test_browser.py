@@ -133,6 +133,22 @@ def test_undo_redo_and_save_give_the_report_shown(page, studio: Studio) -> None:
 
 
 @pytest.mark.parametrize('studio', ['default.yaml'], indirect=True)
+def test_a_speed_edit_redraws_s_v_a_j_and_leaves_the_geometry_plot_as_drawn(
+        page, studio: Studio) -> None:
+    open_page(page, studio)
+    velocity = trace(page, 'svaj', 1)[1]
+    page.evaluate("window.geometryDrawn = document.getElementById('geometry').data")
+    type_value(page, 'cam_speed', repr(2.0 * 6.283185307179586))
+    # V = ds/dtheta * omega: twice the speed, twice every velocity
+    assert np.allclose(trace(page, 'svaj', 1)[1], 2.0 * velocity, rtol=1e-12, atol=0.0)
+    assert page.evaluate("document.getElementById('geometry').data === window.geometryDrawn")
+    type_value(page, 'limits.pressure_angle_deg', '25.0')  # the geometry plot's own data
+    assert not page.evaluate("document.getElementById('geometry').data === window.geometryDrawn")
+    limits = page.evaluate("document.getElementById('geometry').layout.shapes.map(s => s.y0)")
+    assert 25.0 in limits and -25.0 in limits and 30.0 not in limits
+
+
+@pytest.mark.parametrize('studio', ['default.yaml'], indirect=True)
 def test_dragging_a_joint_on_the_s_plot_moves_the_segment_boundary(page, studio: Studio
                                                                    ) -> None:
     open_page(page, studio)

@@ -9,6 +9,7 @@ from .studio_support import CONFIG_DIR
 from cam_ros.core import InvalidParameter, read_parameters_file
 from cam_ros.core.machine import check_interference
 from cam_ros.core.machine.served import machine_from_values
+from cam_ros.studio.document import typed_value
 from cam_ros.studio.memory import machine_and_checks
 
 #: Edits made one after the other: an axis's phase, a pair's limit, the machine's speed, back.
@@ -41,3 +42,13 @@ def test_each_edit_gets_the_cores_own_answers() -> None:
             assert kept.design.warnings() == built.design.warnings()
             assert kept.design.config.cam_speed == built.design.config.cam_speed
     assert (refused, collided) == (1, 2)  # the jaw's end alone; gap < 40 mm at 200 mm, 80 mm
+
+
+def test_a_text_typed_again_is_its_kept_value_and_a_refusal_names_each_key() -> None:
+    assert typed_value('cam_speed', '.nan') is typed_value('cam_speed', '.nan')  # kept
+    assert typed_value('a.offset', '4') == 4 and type(typed_value('a.offset', '4')) is int
+    assert type(typed_value('a.offset', '4.0')) is float
+    for key in ('a.motion.laws[1]', 'b.motion.laws[1]'):  # a refusal is never kept
+        with pytest.raises(InvalidParameter) as raised:
+            typed_value(key, '[cycloidal, dwell]')
+        assert raised.value.parameter == key

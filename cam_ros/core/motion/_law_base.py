@@ -2,8 +2,8 @@
 
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
-from functools import cached_property
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
@@ -19,6 +19,8 @@ PEAK_XATOL = 1e-13
 PEAK_CANDIDATE_RTOL = 1e-2
 #: A jump of y, y' or y'' larger than this at an interior breakpoint makes the next peak infinite.
 INTERIOR_JUMP_TOLERANCE = 1e-9
+#: Laws whose characteristic values are kept (a law is built anew with every design).
+PEAKS_KEPT = 1024
 
 
 class LawValues(NamedTuple):
@@ -87,7 +89,7 @@ class MotionLaw(ABC):
 
     @cached_property
     def _characteristic_values(self) -> tuple[float, float, float]:
-        return characteristic_values(self._derivatives, self.breakpoints)
+        return _kept_peaks(_LawKey(type(self), repr(self), self))
 
     @property
     def cv(self) -> float:
@@ -117,6 +119,21 @@ class InPlaceLaw(MotionLaw):
     @abstractmethod
     def _derivatives_into(self, values: LawValues) -> None:
         """Overwrite values, u in values.y, by y, y', y'', y''' at u (see MotionLaw)."""
+
+
+@dataclass(frozen=True)
+class _LawKey:
+    """A law told apart by its class and repr: every field, each float exactly (-0.0 too)."""
+
+    kind: type
+    text: str
+    law: MotionLaw = field(compare=False, hash=False)
+
+
+@lru_cache(maxsize=PEAKS_KEPT)
+def _kept_peaks(key: _LawKey) -> tuple[float, float, float]:
+    """Return the characteristic values of key.law, searched once for equal laws."""
+    return characteristic_values(key.law._derivatives, key.law.breakpoints)
 
 
 def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:

@@ -308,12 +308,19 @@ function draw(view) {
   for (const pair of view.pairs) {
     pairs.append(element('li', {'data-pair': pair.pair, class: pair.ok ? '' : 'fails'}, pair.line));
   }
-  changed('curves', view.curves) && drawCurves(view.curves);
+  const curves = view.curves, part = keys => keys.map(key => [key, curves[key]]);
+  // a cam_speed edit moves V, A, J only: the geometry plot is drawn again when its data change
+  changed('svaj', part(Object.keys(curves).filter(key => !GEOMETRY.includes(key))))
+    && drawCurves(curves);
+  changed('geometry', part(['angle_deg', 'joints_deg', ...GEOMETRY])) && drawGeometry(curves);
   changed('drawing', [view.drawing, studio.angle]) && drawDrawing(view.drawing);
   changed('timing', [view.timing, view.pairs]) && drawTiming(view);
 }
 
 const drawn = {};
+// The curves' entries drawn on the pressure angle and radius of curvature plot only.
+const GEOMETRY = ['pressure_angle_deg', 'pressure_limit_deg', 'pressure_return_limit_deg',
+                  'radius', 'radius_unit', 'radius_limit'];
 
 // Say whether a plot's data differ from what it shows (then remember them).
 function changed(plot, data) {
@@ -350,6 +357,9 @@ function drawCurves(curves) {
       domain: [(3 - i) * 0.25 + 0.02, (4 - i) * 0.25 - 0.02]};
   });
   Plotly.react('svaj', traces, layout, {...CONFIG, edits: {shapePosition: true}});
+}
+
+function drawGeometry(curves) {
   const geometry = document.getElementById('geometry');
   if (curves.pressure_angle_deg === undefined) { Plotly.purge(geometry); geometry.style.display = 'none'; return; }
   geometry.style.display = '';

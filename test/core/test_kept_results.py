@@ -1,0 +1,65 @@
+"""Results the core keeps for inputs it sees again are those it computes anew, bit for bit.
+
+A law's characteristic values are kept for equal laws (a design is built anew on every edit or
+parameter change, its laws with it); a design's check geometry is computed once per design.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cam_ros.core import build_design, cam_geometry
+from cam_ros.core.config.params_file import read_parameters_file
+from cam_ros.core.config.schema import parse_parameters
+from cam_ros.core.extremes import CHECK_SAMPLES
+from cam_ros.core.motion._law_base import characteristic_values
+from cam_ros.core.motion.inflection import inflected
+from cam_ros.core.motion.laws import make_law, SccaLaw
+
+CONFIG_DIR = Path(__file__).resolve().parents[2] / 'config'
+#: Laws of each kind of field: none, floats, tuples of floats, a law (inflected), solved.
+LAWS = {'cycloidal': lambda: make_law('cycloidal'),
+        'constant_acceleration': lambda: make_law('constant_acceleration'),
+        'scca': lambda: SccaLaw(0.3, 0.2, 0.5),
+        'table': lambda: make_law('table', u=[0.0, 0.4, 1.0], y=[0.0, 0.3, 1.0]),
+        'via_point': lambda: make_law('via_point', u_via=0.3, y_via=0.2),
+        'inflected': lambda: inflected(make_law('modified_sine'), 0.4),
+        'poly5': lambda: make_law('poly5', stroke=1.0, span=1.0, start=(0.5, 0.0),
+                                  end=(0.0, -1.0))}
+
+
+@pytest.mark.parametrize('name', LAWS)
+def test_a_law_built_again_gets_the_values_searched_for_its_equal(name: str) -> None:
+    first, again = LAWS[name](), LAWS[name]()
+    assert first is not again and first == again
+    searched = characteristic_values(first._derivatives, first.breakpoints)  # not kept
+    assert (first.cv, first.ca, first.cj) == searched
+    assert again._characteristic_values is first._characteristic_values  # searched once
+
+
+def test_laws_told_apart_by_a_field_or_the_sign_of_a_zero_are_searched_each() -> None:
+    laws = [SccaLaw(0.3, 0.2, 0.5), SccaLaw(0.25, 0.25, 0.5), SccaLaw(0.5, 0.0, 0.5),
+            SccaLaw(0.5, -0.0, 0.5)]
+    assert laws[2] == laws[3]  # equal as dataclasses: 0.0 == -0.0
+    for law in laws:
+        assert (law.cv, law.ca, law.cj) == characteristic_values(law._derivatives,
+                                                                 law.breakpoints)
+    assert laws[0].ca != laws[1].ca
+    assert laws[3]._characteristic_values is not laws[2]._characteristic_values
+
+
+def test_the_check_geometry_is_computed_once_and_is_the_geometry_at_its_samples() -> None:
+    design = build_design(parse_parameters(read_parameters_file(CONFIG_DIR / 'default.yaml')))
+    kept = design.geometry()
+    assert design.geometry(CHECK_SAMPLES) is kept and kept.theta.size == CHECK_SAMPLES
+    theta = np.linspace(0.0, 2.0 * np.pi, CHECK_SAMPLES, endpoint=False)
+    motion = design.surface.evaluate(theta)
+    fresh = cam_geometry(design.cam_follower, theta, motion.s, motion.ds, motion.d2s,
+                         clockwise=design.clockwise)
+    for name in ('theta', 'pitch_x', 'pitch_y', 'surface_x', 'surface_y', 'pressure_angle'):
+        assert np.array_equal(getattr(kept, name), getattr(fresh, name))
+        assert not getattr(kept, name).flags.writeable  # shared, so never changed in place
+    other = design.geometry(360)
+    assert other.theta.size == 360 and design.geometry(360) is not other
