@@ -78,12 +78,24 @@ class StateWatch:
     def __init__(self, link: 'MasterLink'):
         self.inbox = Inbox(link.node, DiagnosticStatus, '/cam/state', LATCHED)
 
-    def wait(self, message: str, timeout: float = WAIT_S) -> None:
-        """Wait until the latest ~/state says message."""
+    def wait(self, message: str, timeout: float = WAIT_S, since: int | None = None) -> None:
+        """Wait until the latest ~/state says message (with since: until any ~/state from the
+        since-th on has said it, as a state that has passed already)."""
         deadline = time.monotonic() + timeout
-        while self.latest() != message:
+        while not self._said(message, since):
             assert time.monotonic() < deadline, f'~/state {self.latest()!r}, not {message!r}'
             time.sleep(0.01)
+
+    def count(self) -> int:
+        """Return how many ~/state messages came so far."""
+        with self.inbox.arrived:
+            return len(self.inbox.messages)
+
+    def _said(self, message: str, since: int | None) -> bool:
+        if since is None:
+            return self.latest() == message
+        with self.inbox.arrived:
+            return message in [state.message for state in self.inbox.messages[since:]]
 
     def latest(self) -> str | None:
         """Return the message of the last ~/state received (None: none yet)."""
