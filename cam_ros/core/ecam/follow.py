@@ -57,8 +57,6 @@ HOLDING, WAITING_CYCLE, ENGAGING, ENGAGED = 'holding', 'waiting for the cycle st
     'engaging', 'engaged'
 STOPPING, END_OF_PROFILE = 'stopping', 'end of profile'
 RUNNING = (ENGAGING, ENGAGED)
-#: Modes whose engagement is a move off the cam (immediate: with limits or rotary, see needs_move).
-MOVED = (IMMEDIATE, RAMP)
 #: next_cycle: largest difference (m or rad) between the held position and the cam at angle 0,
 #: and largest |dy/dtheta| there (per rad of cam), for a start without a step.
 NEXT_CYCLE_TOLERANCE = 1e-9
@@ -68,7 +66,8 @@ NEXT_CYCLE_TOLERANCE = 1e-9
 class EngageConfig:
     """master.engage_mode, master.engage_distance_deg (in rad of master), master.periodic.
 
-    nominal_speed is the master speed at cam_speed (rad/s): blends are planned for at least it.
+    nominal_speed is the master speed at cam_speed (rad/s): blends are planned for at least it,
+    and an axis without limits moves onto its cam no faster than its cam at it.
     """
 
     mode: str = RAMP
