@@ -167,3 +167,26 @@ def test_stacked_cams_give_every_axis_its_exact_commands_through_its_mapping(nam
             assert abs(position[index] - exact.position) <= ACCURACY * abs(k) * strokes[index]
             assert abs(velocity[index] - exact.velocity) <= \
                 ACCURACY * abs(k / m * omega) * peaks[index][1]
+
+
+def test_cams_that_never_advance_give_their_exact_commands_modulo_a_cycle():
+    """No program of the stack advances (no rotary axis): each command is the table's at the
+    master's angle modulo a cycle, against the exact program through each mapping."""
+    names = ['default.yaml', 'machine.yaml:jaw', 'machine.yaml:feeder']
+    tables = [TABLES[name] for name in names for _ in MAPPINGS]
+    assert not any(table.program.advance for table in tables)
+    cams = [ElectronicCam(TABLES[name].program, mapping) for name in names
+            for mapping in MAPPINGS]
+    stacked = CompiledCams(cams, tables)
+    scans = [dense(table.program) for table in tables]
+    strokes, peaks = [np.ptp(scan[0]) for scan in scans], [np.abs(scan[1]).max() for scan in scans]
+    rng = np.random.default_rng(4)
+    for _ in range(300):
+        master, omega = rng.uniform(-300.0, 300.0), rng.uniform(-70, 70)
+        position, velocity = stacked.commands(master, omega)
+        for index, cam in enumerate(cams):
+            k, m = cam.mapping.slave_scaling, cam.mapping.master_scaling
+            exact = cam.setpoints(master, omega, 0.0)
+            assert abs(position[index] - exact.position) <= ACCURACY * abs(k) * strokes[index]
+            assert abs(velocity[index] - exact.velocity) <= \
+                ACCURACY * abs(k / m * omega) * peaks[index]

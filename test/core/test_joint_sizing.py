@@ -272,3 +272,6 @@ def test_a_lax_return_limit_puts_the_optimum_at_the_foot_of_the_rise_line(motion
     values = motion.evaluate(DENSE)
     a = np.min((values.s - values.ds / math.tan(rise))[values.ds >= 0])
     assert cam.prime_radius == pytest.approx(-a * math.sin(rise), rel=1e-7)
+    peaks = closed_form_sides(motion, cam.prime_radius, cam.offset, clockwise)
+    assert (cam.rise_peak, cam.return_peak) == pytest.approx(peaks, rel=1e-6)
+    assert cam.rise_peak <= rise and cam.rise_peak == pytest.approx(rise, rel=1e-9)

@@ -83,3 +83,21 @@ def test_the_switches_parameters_become_a_table_in_si(lead):
     np.testing.assert_allclose(table.off, np.radians([90.0, 10.0, 200.5]), rtol=1e-15)
     np.testing.assert_array_equal(table.lead_time, lead or [0.0, 0.0, 0.0])
     assert table.hysteresis == pytest.approx(0.5 * math.pi / 180, rel=1e-15)
+
+
+@pytest.mark.parametrize('start, end', [(0.05, 2.3 * 2 * math.pi), (2.3 * 2 * math.pi, -0.4)],
+                         ids=['forward', 'backward'])
+def test_one_long_step_with_leads_gives_the_words_of_many_short_ones(start, end):
+    """With lead times each track reads its own phase (z + lead x speed): edges of tracks at
+    different phases crossed in one step still come in the order of many short steps."""
+    table = SwitchTable(('a', 'b', 'c', 'd'), np.radians([10.0, 30.0, 350.0, 35.0]),
+                        np.radians([50.0, 35.0, 20.0, 60.0]), np.array([0.0, 0.03, 0.01, 0.02]),
+                        0.0)
+    speed = 10.0  # rad/s: leads of 0 to 17 deg
+    one_step, fine = SwitchTracks(table), SwitchTracks(table)
+    one_step.update(start, speed)
+    fine.update(start, speed)
+    steps = np.linspace(start, end, 20_001)[1:]  # 0.04 deg apart: one edge a step at most
+    expected = [w for turn in steps for w in fine.update(turn, speed)]
+    assert one_step.update(end, speed) == expected
+    assert len(expected) > 16
