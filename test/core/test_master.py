@@ -152,3 +152,25 @@ def test_bad_master_parameters_are_refused_by_name(name, value, fragment):
 
 
 # Master messages ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize('mapping', [CamMapping(), MAPPING, CamMapping(-0.5, 0.5)],
+                         ids=['identity', 'offset, 2.5', 'two cycles a turn'])
+@pytest.mark.parametrize('low, high', [(0.0, 2 * math.pi), (100.0, 130.0), (-50.0, -20.0),
+                                       (-7.0, 40.0)])
+def test_the_breaks_are_the_master_positions_of_every_program_break(mapping, low, high):
+    """Each break b of the program recurs at every cam angle b + 2 pi k: in the cam angles of
+    [low, high] that is floor((t_high - b) / 2 pi) - ceil((t_low - b) / 2 pi) + 1 times."""
+    cam = ElectronicCam(DESIGN.program, mapping)
+    found = cam.breaks(low, high)
+    assert np.all((found >= low) & (found <= high))
+    angles = (found - mapping.master_offset) / mapping.master_scaling
+    program_breaks = np.array(DESIGN.program.breaks)
+    off = np.remainder(angles[:, np.newaxis] - program_breaks + math.pi, 2 * math.pi) - math.pi
+    assert np.abs(off).min(axis=1).max() <= 1e-9
+    t_low, t_high = ((value - mapping.master_offset) / mapping.master_scaling
+                     for value in (low, high))
+    turn = 2 * math.pi
+    expected = sum(math.floor((t_high - b) / turn) - math.ceil((t_low - b) / turn) + 1
+                   for b in program_breaks)
+    assert found.size == expected > 0
