@@ -12,23 +12,28 @@ The floor, measured the same way in the same page, is a round trip of GET /api/d
 painted frame: what any answer costs without the core. Designs: config/machine.yaml, and a
 16-axis machine of config/default.yaml's cam with 15 clearance pairs between neighbours.
 
-Run alone (not in `make bench`): ``.venv/bin/python -m benchmarks.studio``.
+Run alone (not in `make bench`): ``.venv/bin/python -m benchmarks.studio``; ``--write`` puts its
+figures into benchmarks/results.json and results.md as ``benchmarks.cli --write`` does (each
+carries the date and load average of its run), then ``python tools/docs_tables.py``.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import tempfile
 from dataclasses import dataclass
+from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 
+from benchmarks.cli import write_into
 from benchmarks.machine import machine_values
 from benchmarks.report import Figure, markdown_table, Target
-from benchmarks.ros import REPO
+from benchmarks.ros import BENCH_DIR, REPO
 from cam_ros.recording.parameters import params_file
 from cam_ros.studio.document import DesignDocument
 from cam_ros.studio.server import run_in_thread
@@ -128,6 +133,8 @@ def studio_figures(sizes: StudioSizes = StudioSizes()) -> list[Figure]:
     from playwright.sync_api import sync_playwright
 
     figures = []
+    date = datetime.now(timezone.utc).isoformat(timespec='seconds')
+    load = os.getloadavg()[0]  # others' work on the machine slows the page and the studio
     with tempfile.TemporaryDirectory(prefix='cam_ros_studio_bench_') as folder, \
             sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=['--no-sandbox'])
@@ -146,8 +153,9 @@ def studio_figures(sizes: StudioSizes = StudioSizes()) -> list[Figure]:
                     f'studio: {what} to drawn, {name}, p50', float(np.median(times)), 'ms',
                     'GET /api/design round trip and a frame, p50', float(np.median(floor)),
                     target, note=f'in headless Chromium, edit of {edited}; plots drawn and '
-                                 'painted',
-                    extra={'p90_ms': float(np.percentile(times, 90)), 'edits': len(times)}))
+                                 f'painted. Run of {date[:16]}, load average {load:.1f}.',
+                    extra={'p90_ms': float(np.percentile(times, 90)), 'edits': len(times),
+                           'date': date, 'load_average': load}))
         browser.close()
     return figures
 
@@ -158,12 +166,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument('--json', type=Path, default=None, help='write the figures here')
     parser.add_argument('--edits', type=int, default=StudioSizes.edits)
+    parser.add_argument('--write', action='store_true',
+                        help='put the figures into benchmarks/results.json and results.md')
     args = parser.parse_args(argv)
     figures = studio_figures(StudioSizes(edits=args.edits))
     data = [figure.as_json() for figure in figures]
     if args.json is not None:
         args.json.write_text(json.dumps(data, indent=2) + '\n')
     print(markdown_table(data))
+    if args.write:
+        write_into(BENCH_DIR / 'results.json', BENCH_DIR / 'results.md', figures)
     return 0 if all(figure.met for figure in figures) else 1
 
 
