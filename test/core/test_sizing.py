@@ -145,10 +145,18 @@ def test_unreachable_limit_is_reported_infeasible():
     (OscillatingFlat(0.03, 0.09, 0.01, True), ANGULAR),  # phi = atan(f/t) falls with Rb
 ])
 def test_limit_that_never_binds_stops_at_the_search_bound(follower, motion):
+    """The smallest radius scanned: 2**-40 of the stroke above 0 (unbounded), or the first of
+    256 radii spread evenly inside (face offset, pivot distance - face offset) (bounded)."""
     sizing = size_base_radius(follower, THETA, *motion, max_pressure_angle=12 * DEG)
     assert sizing.governing == 'search_bound'
     low = max(0.0, -getattr(follower, 'face_offset', 0.0))
     assert low < sizing.base_radius < low + 1e-3
+    if isinstance(follower, OscillatingFlat):
+        high = follower.pivot_distance - follower.face_offset
+        smallest = low + (high - low) / 257
+    else:
+        smallest = np.ptp(motion[0]) * 2.0 ** -40
+    assert sizing.base_radius == pytest.approx(smallest, rel=1e-12)
 
 
 def test_geometry_can_govern():
