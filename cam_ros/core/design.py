@@ -26,6 +26,7 @@ from .ecam.master import ElectronicCam, MasterConfig
 from .ecam.slave_limits import AxisUnit, CamPeaks, SlaveLimits
 from .errors import InvalidParameter
 from .extremes import CHECK_SAMPLES
+from .kept import kept
 from .geometry.followers import Follower, OscillatingRoller, TranslatingRoller
 from .geometry.cam_geometry import CamGeometry, cam_geometry, contact_at, contact_measures
 from .geometry.check import GeometryCheck, check_geometry
@@ -151,20 +152,16 @@ class CamDesign:
     def geometry(self, count: int = CHECK_SAMPLES) -> CamGeometry:
         """Return the cam's geometry (pitch curve, surface, ...) at count angles from 0.
 
-        The check's (CHECK_SAMPLES) is computed once: building the design validates it, the
-        check refines it (CamGeometry is frozen, its arrays read-only).
+        The check's (CHECK_SAMPLES) is computed once: building the design validates it
+        (CamGeometry is frozen, its arrays read-only).
         """
-        return self._checked_geometry if count == CHECK_SAMPLES else self._geometry(count)
+        if count == CHECK_SAMPLES:
+            return self._checked_geometry
+        return sampled_geometry(self.cam_follower, self.surface, self.clockwise, count)
 
     @cached_property
     def _checked_geometry(self) -> CamGeometry:
-        return self._geometry(CHECK_SAMPLES)
-
-    def _geometry(self, count: int) -> CamGeometry:
-        theta = np.linspace(0.0, TWO_PI, count, endpoint=False)
-        motion = self.surface.evaluate(theta)
-        return cam_geometry(self.cam_follower, theta, motion.s, motion.ds, motion.d2s,
-                            clockwise=self.clockwise)
+        return sampled_geometry(self.cam_follower, self.surface, self.clockwise, CHECK_SAMPLES)
 
     @property
     def cam_follower(self) -> Follower:
@@ -176,11 +173,16 @@ class CamDesign:
 
     @cached_property
     def check(self) -> GeometryCheck:
-        """Check the design against its limits: extremes refined from a dense sampling."""
-        return check_geometry(self.geometry(), max_pressure_angle=self.config.pressure_angle_limit,
-                              min_radius=self.config.min_radius_of_curvature,
-                              program=self.surface,
-                              max_pressure_angle_return=self.config.pressure_angle_return_limit)
+        """Check the design against its limits: extremes refined from a dense sampling.
+
+        Kept for an equal follower, surface, sense and limits (core/kept.py): a design built
+        again for a new cam speed alone has the same check. The geometry it samples is not
+        kept (half a megabyte); a design's own is computed again where the check is not kept.
+        """
+        config = self.config
+        return kept(checked_geometry, self.cam_follower, self.surface, self.clockwise,
+                    config.pressure_angle_limit, config.min_radius_of_curvature,
+                    config.pressure_angle_return_limit)
 
     @cached_property
     def dynamics_check(self) -> DynamicsReport | None:
@@ -321,3 +323,20 @@ class CamDesign:
                 f'{self.config.cam_speed:g} rad/s: {laws}; max |pressure angle| '
                 f'{math.degrees(check.max_pressure_angle):.2f} deg, min radius of curvature '
                 f'{check.min_radius:.6g} m')
+
+
+def sampled_geometry(follower: Follower, surface: MotionProgram, clockwise: bool,
+                     count: int) -> CamGeometry:
+    """Return a cam's geometry at count equally spaced cam angles from 0."""
+    theta = np.linspace(0.0, TWO_PI, count, endpoint=False)
+    motion = surface.evaluate(theta)
+    return cam_geometry(follower, theta, motion.s, motion.ds, motion.d2s, clockwise=clockwise)
+
+
+def checked_geometry(follower: Follower, surface: MotionProgram, clockwise: bool,
+                     pressure_limit: float, min_radius: float,
+                     pressure_return_limit: float) -> GeometryCheck:
+    """Return a cam's check against its limits, extremes refined on the exact surface."""
+    geometry = sampled_geometry(follower, surface, clockwise, CHECK_SAMPLES)
+    return check_geometry(geometry, max_pressure_angle=pressure_limit, min_radius=min_radius,
+                          program=surface, max_pressure_angle_return=pressure_return_limit)

@@ -1,7 +1,8 @@
 """Results the core keeps for inputs it sees again are those it computes anew, bit for bit.
 
-A law's characteristic values are kept for equal laws (a design is built anew on every edit or
-parameter change, its laws with it); a design's check geometry is computed once per design.
+A law's characteristic values are kept for equal laws, a design's geometry check for an equal
+follower, surface, sense and limits (core/kept.py: a design is built anew on every edit or
+parameter change); a design's check geometry is computed once per design.
 """
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ import pytest
 from cam_ros.core import build_design, cam_geometry
 from cam_ros.core.config.params_file import read_parameters_file
 from cam_ros.core.config.schema import parse_parameters
+from cam_ros.core.design import CamDesign, checked_geometry
 from cam_ros.core.extremes import CHECK_SAMPLES
+from cam_ros.core.geometry.check import GeometryCheck
 from cam_ros.core.motion._law_base import characteristic_values
 from cam_ros.core.motion.inflection import inflected
 from cam_ros.core.motion.laws import make_law, SccaLaw
@@ -50,8 +53,43 @@ def test_laws_told_apart_by_a_field_or_the_sign_of_a_zero_are_searched_each() ->
     assert laws[3]._characteristic_values is not laws[2]._characteristic_values
 
 
+def design_of(name: str = 'default.yaml', **changes: object) -> CamDesign:
+    values = read_parameters_file(CONFIG_DIR / name)
+    values.update(changes)
+    return build_design(parse_parameters(values))
+
+
+def same_check(a: GeometryCheck, b: GeometryCheck) -> bool:
+    """Say whether two checks hold the same figures, array for array, bit for bit."""
+    return vars(a).keys() == vars(b).keys() and all(
+        np.array_equal(value, vars(b)[name], equal_nan=True) if isinstance(value, np.ndarray)
+        else repr(value) == repr(vars(b)[name]) for name, value in vars(a).items())
+
+
+def test_a_new_cam_speed_alone_keeps_the_check_and_a_new_limit_does_not() -> None:
+    first = design_of()
+    faster = design_of(cam_speed=2.0 * first.config.cam_speed)
+    assert faster.check is first.check  # the same follower, motion, sense and limits
+    config = faster.config
+    fresh = checked_geometry(faster.cam_follower, faster.surface, faster.clockwise,
+                             config.pressure_angle_limit, config.min_radius_of_curvature,
+                             config.pressure_angle_return_limit)  # not kept
+    assert fresh is not first.check and same_check(fresh, first.check)
+    stricter = design_of(**{'limits.pressure_angle_deg': 20.0})
+    assert stricter.check is not first.check
+    assert stricter.check.pressure_angle_limit < first.check.pressure_angle_limit
+
+
+def test_a_polydyne_cam_is_checked_anew_at_a_new_cam_speed() -> None:
+    first = design_of('polydyne.yaml')
+    faster = design_of('polydyne.yaml', cam_speed=1.5 * first.config.cam_speed)
+    assert faster.surface is not faster.program  # the surface is made at the cam speed
+    assert faster.check is not first.check
+    assert faster.check.max_pressure_angle != first.check.max_pressure_angle
+
+
 def test_the_check_geometry_is_computed_once_and_is_the_geometry_at_its_samples() -> None:
-    design = build_design(parse_parameters(read_parameters_file(CONFIG_DIR / 'default.yaml')))
+    design = design_of()
     kept = design.geometry()
     assert design.geometry(CHECK_SAMPLES) is kept and kept.theta.size == CHECK_SAMPLES
     theta = np.linspace(0.0, 2.0 * np.pi, CHECK_SAMPLES, endpoint=False)

@@ -2,14 +2,15 @@
 
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
-from functools import cached_property, lru_cache
+from dataclasses import dataclass
+from functools import cached_property
 from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
 
 from ..arrays import checked_array, FloatArray
+from ..kept import kept
 
 #: Samples per law piece in the search for the peaks of |y'|, |y''|, |y'''|.
 PEAK_SAMPLES = 1025
@@ -19,8 +20,6 @@ PEAK_XATOL = 1e-13
 PEAK_CANDIDATE_RTOL = 1e-2
 #: A jump of y, y' or y'' larger than this at an interior breakpoint makes the next peak infinite.
 INTERIOR_JUMP_TOLERANCE = 1e-9
-#: Laws whose characteristic values are kept (a law is built anew with every design).
-PEAKS_KEPT = 1024
 
 
 class LawValues(NamedTuple):
@@ -89,7 +88,7 @@ class MotionLaw(ABC):
 
     @cached_property
     def _characteristic_values(self) -> tuple[float, float, float]:
-        return _kept_peaks(_LawKey(type(self), repr(self), self))
+        return kept(_peaks, self)  # a law is built anew with every design: searched once
 
     @property
     def cv(self) -> float:
@@ -121,21 +120,6 @@ class InPlaceLaw(MotionLaw):
         """Overwrite values, u in values.y, by y, y', y'', y''' at u (see MotionLaw)."""
 
 
-@dataclass(frozen=True)
-class _LawKey:
-    """A law told apart by its class and repr: every field, each float exactly (-0.0 too)."""
-
-    kind: type
-    text: str
-    law: MotionLaw = field(compare=False, hash=False)
-
-
-@lru_cache(maxsize=PEAKS_KEPT)
-def _kept_peaks(key: _LawKey) -> tuple[float, float, float]:
-    """Return the characteristic values of key.law, searched once for equal laws."""
-    return characteristic_values(key.law._derivatives, key.law.breakpoints)
-
-
 def piece_grid(breakpoints: tuple[float, ...], samples: int) -> FloatArray:
     """
     Return a (pieces, samples) grid of u covering each piece between breakpoints.
@@ -164,6 +148,10 @@ def _candidate_peaks(magnitude: FloatArray) -> list[tuple[int, int]]:
     local &= middle >= (1.0 - PEAK_CANDIDATE_RTOL) * magnitude.max()
     local.flat[np.argmax(magnitude)] = True
     return [(int(piece), int(index)) for piece, index in zip(*np.nonzero(local))]
+
+
+def _peaks(law: MotionLaw) -> tuple[float, float, float]:
+    return characteristic_values(law._derivatives, law.breakpoints)
 
 
 def characteristic_values(derivatives: Derivatives,
