@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
@@ -30,7 +31,8 @@ from std_msgs.msg import UInt32
 from std_srvs.srv import SetBool
 
 from cam_ros.core import CamDesign
-from cam_ros.core.ecam.axes import by_axis, Commands, MoveCheck, SlaveAxes
+from cam_ros.core.ecam.axes import by_axis, Commands, SlaveAxes
+from cam_ros.core.ecam.engagement import CheckMoves
 from cam_ros.core.ecam.follow import EngageConfig, Follower
 from cam_ros.core.ecam.line_shaft import INACTIVE, LOST as HALTED_LOST
 from cam_ros.core.ecam.following_error import CommandHistory
@@ -73,7 +75,7 @@ class MasterFollower:
     @classmethod
     def attach(cls, node: Node, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-               recorder: Callable[[], Recorder | None], check: Optional[MoveCheck] = None,
+               recorder: Callable[[], Recorder | None], check: Optional[CheckMoves] = None,
                active: bool = True) -> MasterFollower | None:
         """Return the component if master.source is topic, else None."""
         refuse_rewiring(node)
@@ -83,7 +85,7 @@ class MasterFollower:
 
     def __init__(self, node: Node, axes: Sequence[tuple[str, CamDesign]],
                  switches: Mapping[str, Any], machine: bool, joint_pub: Publisher,
-                 recorder: Callable[[], Recorder | None], check: Optional[MoveCheck] = None,
+                 recorder: Callable[[], Recorder | None], check: Optional[CheckMoves] = None,
                  active: bool = True):
         """Follow the master; inactive (a managed node's state) until activate() unless active.
 
@@ -95,13 +97,15 @@ class MasterFollower:
         self._config = MasterConfig.from_config(first)
         self._units = [AxisUnit.of(design.config) for _, design in axes]
         self._parameters = [dict(design.config.parameters) for _, design in axes]
+        # An engagement's moves are planned here, off the master thread (SlaveAxes).
+        self._planner = ThreadPoolExecutor(max_workers=1, thread_name_prefix='move planning')
         self._axes = SlaveAxes(
             [name for name, _ in axes],
             [Follower(design.electronic_cam,
                       EngageConfig.from_parameters(design.config.parameters),
                       values['master.engage_on_start'], SlaveLimits.from_config(design.config),
                       unit) for (_, design), unit in zip(axes, self._units)],
-            _interfaces(axes), check)
+            _interfaces(axes), check, self._planner.submit)
         self._design_statuses = design_statuses(node, axes)
         self._tracks = SwitchTracks(switch_table(switches))
         self._speed_limit = _speed_limit(axes)
@@ -207,6 +211,7 @@ class MasterFollower:
     def stop(self) -> None:
         """Stop taking master messages and the clock (before the node is destroyed)."""
         self._clock.end()
+        self._planner.shutdown(wait=False, cancel_futures=True)
         self._intake.stop()
 
     def activate(self) -> None:

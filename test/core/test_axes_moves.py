@@ -8,6 +8,7 @@ config/machine.yaml written out here: gap = 310 mm - feeder - jaw >= 15 mm.
 from __future__ import annotations
 
 import math
+from concurrent.futures import Future
 
 import numpy as np
 from conftest import CONFIG_DIR
@@ -27,7 +28,7 @@ SLOW_PUSHER = {'feeder.slave.max_velocity': 200.0, 'feeder.slave.max_acceleratio
 PERIOD = 1_000_000  # ns: 1 kHz
 
 
-def machine_axes(present, idle=(), **changes):
+def machine_axes(present, idle=(), submit=None, **changes):
     """Return config/machine.yaml's machine (with changes) and its SlaveAxes, each axis's drive
     reporting present[name] (m or rad; an axis not named starts on its cam), engaging but the
     axes named in idle."""
@@ -43,7 +44,7 @@ def machine_axes(present, idle=(), **changes):
         follower.present = present.get(axis.name)
         followers.append(follower)
     axes = SlaveAxes([axis.name for axis in shop.axes], followers, ['position'] * 3,
-                     lambda moves, master: checked_moves(shop, moves, master))
+                     lambda moves, master: checked_moves(shop, moves, master), submit)
     return shop, axes
 
 
@@ -94,3 +95,38 @@ def test_an_axis_left_disengaged_is_checked_where_it_holds():
     jaw = axes.followers[2]
     assert jaw.phase == HOLDING and jaw.reason.startswith(
         'the moves collide together: clearance feeder-jaw: smallest gap -')
+
+
+class Later:
+    """A planner thread that takes its time: submit keeps the work until finish() runs it."""
+
+    def __init__(self):
+        self.waiting = []
+
+    def submit(self, function, *args):
+        future = Future()
+        self.waiting.append((future, function, args))
+        return future
+
+    def finish(self):
+        for future, function, args in self.waiting:
+            future.set_result(function(*args))
+        self.waiting.clear()
+
+
+def test_moves_planned_elsewhere_begin_at_the_step_after_and_are_the_same():
+    # While the planner works, every axis holds and the line shaft rests; the moves then begin
+    # at the next step, as the same moves planned inline begin at once.
+    later = Later()
+    _, axes = machine_axes({'feeder': 0.24, 'jaw': 0.0}, submit=later.submit, **SLOW_PUSHER)
+    held = run(axes, 240.0 * DEG, 0.01)
+    assert len(later.waiting) == 1 and (held == held[0]).all()
+    assert held[0, 0] == 0.24 and held[0, 2] == 0.0 and axes.shaft.mode == AT_REST
+    assert [follower.phase for follower in axes.followers] == [HOLDING, ENGAGED, HOLDING]
+    later.finish()
+    rows = []
+    for k in range(10, 1500):
+        q = 240.0 * DEG
+        rows.append(axes.command(MasterState(k * PERIOD, q, 0.0, 0.0, 0.0, q)).position)
+    _, inline = machine_axes({'feeder': 0.24, 'jaw': 0.0}, **SLOW_PUSHER)
+    np.testing.assert_array_equal(np.array(rows), run(inline, 240.0 * DEG, 1.49))

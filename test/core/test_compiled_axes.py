@@ -14,6 +14,7 @@ from cam_ros.core.ecam.compiled import ACCURACY
 from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam
 from cam_ros.core.ecam.master_tracker import MasterState
+from cam_ros.core.ecam.moves import MasterMotion
 from cam_ros.core.ecam.slave_limits import SlaveLimits
 from cam_ros.core.machine.machine import load_machine
 from cam_ros.core.motion.laws import Cycloidal
@@ -62,6 +63,15 @@ class Counted:
         return self.command(state)
 
 
+def begin_moves(alone: list[Follower], virtual: MasterState) -> None:
+    """Begin the followers' moves onto their cams, planned as SlaveAxes plans them (no pairs
+    here), where the line shaft rests."""
+    for follower in alone:
+        if follower.needs_move and not virtual.omega:
+            master = MasterMotion(virtual.track, 0.0)
+            follower.begin_move(follower.move_request(master).plan(), virtual)
+
+
 def run(axes: SlaveAxes, alone: list[Follower], track: np.ndarray, omega: np.ndarray,
         events: dict[int, object] = {}) -> dict[str, list]:
     """Drive both with the same master samples; return per sample what each did.
@@ -80,6 +90,7 @@ def run(axes: SlaveAxes, alone: list[Follower], track: np.ndarray, omega: np.nda
         before = sum(counter.calls for counter in counters)
         commands = axes.command(state)
         said['tabled'].append(sum(counter.calls for counter in counters) == before)
+        begin_moves(alone, axes.virtual)
         exact = [follower.command(axes.virtual) for follower in alone]
         said['fast'].append(list(zip(commands.position, commands.velocity)))
         said['exact'].append([(float(p.position), float(p.velocity)) for p in exact])
@@ -153,6 +164,7 @@ def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them()
         q = 3.0 + OMEGA * DT * k
         state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
         last = axes.command(state)
+        begin_moves(alone, axes.virtual)
         for follower in alone:
             follower.command(axes.virtual)
         k += 1

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from cam_ros.core import build_design, parse_parameters, read_parameters_file
+from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.follow import (END_OF_PROFILE, ENGAGED, EngageConfig, ENGAGING, Follower,
                                       HOLDING, WAITING_CYCLE)
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam
@@ -37,17 +38,20 @@ def test_ramp_waits_for_the_master_at_rest_then_moves_onto_the_cam_in_the_least_
     # Without limits a move is bounded by the cam's own peaks at cam_speed: from a dense scan,
     # velocity V = max |y'| w and acceleration A = max |y''| w^2; with no jerk limit the least
     # time over a distance d is d / V + V / A (a trapezoid), or 2 sqrt(d / A) (a triangle).
+    # A follower alone holds: its move is its machine's to plan, with the line shaft at rest.
     follower = Follower(CAM, EngageConfig(distance=DISTANCE, nominal_speed=OMEGA), engage=True)
     follower.present = 0.012
     q = 2.0 + OMEGA * DT * np.arange(20)
-    points, phases = drive(follower, q)  # the master runs: the move waits for it to rest
+    points, phases = drive(follower, q)
     assert points == [0.012] * 20 and set(phases) == {HOLDING} and follower.needs_move
+    axes = SlaveAxes(['follower'], [follower], ['position'])  # a machine of one axis
     theta = float(q[-1])
     positions, velocities, phases = [], [], []
     for k in range(20, 2000):
-        point = follower.command(MasterState(k * 10 ** 6, theta, 0.0, 0.0, 0.0, theta))
-        positions.append(float(point.position))
-        velocities.append(float(point.velocity))
+        commands = axes.command(MasterState(k * 10 ** 6, theta, OMEGA if k == 20 else 0.0, 0.0,
+                                            0.0, theta))  # running at first: theta_v rests
+        positions.append(commands.position[0])
+        velocities.append(commands.velocity[0])
         phases.append(follower.phase)
     dense = CAM.derivatives(np.linspace(0.0, 2 * math.pi, 400_001))
     fastest, hardest = np.abs(dense.dy).max() * OMEGA, np.abs(dense.d2y).max() * OMEGA ** 2

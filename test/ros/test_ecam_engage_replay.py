@@ -128,15 +128,17 @@ def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
             '/cam/switch_state', '/cam/engage_requests', '/diagnostics'} <= recording.outputs
     assert not {'/cam/master', SLAVE_TOPIC, '/parameter_events'} & recording.outputs
 
-    # The run: held at the axis's position, a move onto the cam from the message after the
-    # engage call (the line shaft resting where it was: nothing followed it); after the
+    # The run: held at the axis's position, a move onto the cam from a message after the
+    # engage call, once planned (off the master thread: within 0.2 s here; the line shaft
+    # resting where it was: nothing followed it); after the
     # disengage call the line shaft stops on the cam (no limits: over
     # master.engage_distance_deg, 30 deg, from its speed) and rests.
     position = np.array([m.position[1] for m in answers])
     taken_stamps = np.array([stamp_of(m) for m in taken])
     engaged = np.searchsorted(taken_stamps, engaged_after, side='right')
-    assert np.all(position[:engaged + 1] == AXIS_AT)
-    assert np.all(np.diff(position[engaged:engaged + 6]) != 0.0)
+    moving = engaged + int(np.argmax(position[engaged:] != AXIS_AT))  # once it is planned
+    assert np.all(position[:moving] == AXIS_AT) and moving < engaged + 50
+    assert np.all(np.diff(position[moving - 1:moving + 5]) != 0.0)
     # The stop starts from the line shaft at the call's master message (whichever the node
     # takes next) and decelerates it at the rate that stops the master's speed over 30 deg,
     # path_limits.MARGIN below it: theta_v written out here, the cam at theta_v exactly.

@@ -10,11 +10,12 @@ starts and stops as one, and never leaves its cams for it); while the master is 
 clock steps it (tick).
 
 An engagement that moves an axis off its cam (Follower.needs_move: from where its drive is) is
-made with the line shaft at rest: it halts (MOVING; at once where no axis follows it), each such
-axis plans its move (ecam.moves) once it rests, the moves begun together are checked against the
-machine's interference pairs with every other axis on its cam or where it holds (check: given by
-whoever knows the machine; the moves as they are, delayed one after another, or refused with the
-pair that collides), and once every axis is on its cam the line shaft catches up with the master.
+made with the line shaft at rest: it halts (MOVING; at once where no axis follows it); once it
+rests the moves due are planned together (engagement.plan_engagement: each axis's move, checked
+against the machine's interference pairs with every other axis on its cam or where it holds, by
+check, given by whoever knows the machine), inline or through submit (a concurrent.futures
+submit: off the master thread, the axes holding meanwhile), and begun at the first step after;
+once every axis is on its cam the line shaft catches up with the master.
 
 From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.steady: engaged on
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
@@ -28,7 +29,8 @@ follower but through them.
 """
 from __future__ import annotations
 
-from typing import Callable, Mapping, NamedTuple, Optional, Sequence, Union
+from concurrent.futures import Future
+from typing import Any, Callable, NamedTuple, Optional, Sequence
 
 import numpy as np
 
@@ -38,7 +40,8 @@ from .follow import END_OF_PROFILE, ENGAGED, Follower, RUNNING, WAITING_CYCLE
 from .line_shaft import AT_REST, DISENGAGED, LineShaft, MOVING, Virtual
 from .master import ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .moves import MasterMotion, Move
+from .engagement import CheckMoves, plan_engagement
+from .moves import MasterMotion
 from .path_limits import PathLimits
 
 #: Fewest axes whose steady commands come from the compiled tables: one pass costs about as much
@@ -50,9 +53,8 @@ DIRECTION_MARGIN = 2.0
 
 #: What an axis does while it follows the virtual master.
 FOLLOWING = (*RUNNING, WAITING_CYCLE)
-#: Checks every axis's move (by axis name; an axis on its cam: a move of duration 0) with the
-#: virtual master's motion: the moves to make (some delayed to their turn), or why none.
-MoveCheck = Callable[[Mapping[str, Move], MasterMotion], Union[Mapping[str, Move], str]]
+#: concurrent.futures' Executor.submit: runs fn(*args) elsewhere, returns its Future.
+Submit = Callable[..., 'Future[Any]']
 
 
 def by_axis(names: Sequence[str], said: Sequence[str]) -> str:
@@ -73,10 +75,11 @@ class SlaveAxes:
     """Followers by axis name, each with its command interface ('position' or 'velocity')."""
 
     def __init__(self, names: Sequence[str], followers: Sequence[Follower],
-                 interfaces: Sequence[str], check: Optional[MoveCheck] = None):
+                 interfaces: Sequence[str], check: Optional[CheckMoves] = None,
+                 submit: Optional[Submit] = None):
         self.names, self._followers = tuple(names), list(followers)
-        self.check = check
-        self._checked: list[Move] = []  # the moves under way, checked
+        self.check, self._submit = check, submit
+        self._planning: Optional['Future[Any]'] = None  # the moves due, being planned
         # A tabled sample's commands, noted in the followers when they are next looked at:
         # after the node has sent them (see followers).
         self._unnoted: Optional[tuple[MasterState, Commands]] = None
@@ -131,8 +134,12 @@ class SlaveAxes:
     @property
     def resting(self) -> bool:
         """Say whether nothing moves: the line shaft rests and no axis moves onto its cam."""
-        return self.shaft.mode == AT_REST and not any(
-            follower.move is not None for follower in self.followers)
+        return self.shaft.mode == AT_REST and not self._moving()
+
+    def _moving(self) -> bool:
+        """Say whether an axis moves onto its cam, is to, or its move is being planned."""
+        return self._planning is not None or any(
+            follower.needs_move or follower.move is not None for follower in self.followers)
 
     @property
     def held(self) -> list[Optional[float]]:
@@ -160,40 +167,48 @@ class SlaveAxes:
         if virtual is None or before is not None and virtual.stamp_ns <= before.stamp_ns:
             return None
         state = self._virtual(position, virtual)
+        self._plan_moves(state)
         commands = self._follow(state)
-        self._check_moves(state)
+        self._resume()
         return commands
 
     def _rest_for_moves(self) -> None:
         """Halt the line shaft while an axis moves onto its cam or is to (see the module)."""
-        followers = self.followers
-        if any(follower.needs_move or follower.move is not None for follower in followers):
+        if self._moving():
             self.shaft.halt(MOVING, idle=not any(follower.phase in FOLLOWING
-                                                 for follower in followers))
+                                                 for follower in self.followers))
 
-    def _check_moves(self, state: MasterState) -> None:
-        """Check the moves begun at this step (see the module); once none is under way, let
-        the line shaft follow the master (or rest, saying why an axis did not engage)."""
+    def _plan_moves(self, state: MasterState) -> None:
+        """Begin the moves planned; have those due planned once the line shaft rests."""
         followers = self.followers
-        begun = [follower.move for follower in followers
-                 if follower.move is not None and follower.move not in self._checked]
-        if begun and self.check is not None:
+        if self._planning is None:
+            if state.omega or not any(follower.needs_move for follower in followers):
+                return
             master = MasterMotion(state.track, 0.0)
-            found = self.check({name: follower.during(master)
-                                for name, follower in zip(self.names, followers)}, master)
-            for name, follower in zip(self.names, followers):
-                if follower.move not in begun:
-                    continue
-                if isinstance(found, str):
-                    follower.take_move(None, found)
-                else:
-                    follower.take_move(found[name])
-        self._checked = [follower.move for follower in followers if follower.move is not None]
-        if self.shaft.why != MOVING or self._checked or any(
-                follower.needs_move for follower in followers):
+            requests = {name: follower.move_request(master)
+                        for name, follower in zip(self.names, followers) if follower.needs_move}
+            others = {name: follower.during(master)
+                      for name, follower in zip(self.names, followers) if name not in requests}
+            planning = (requests, others, master, self.check)
+            if self._submit is not None:
+                self._planning = self._submit(plan_engagement, *planning)
+            else:
+                self._planning = Future()
+                self._planning.set_result(plan_engagement(*planning))
+        if not self._planning.done():
             return
-        refused = [(name, follower.reason) for name, follower in zip(self.names, followers)
-                   if follower.wanted and follower.reason]
+        found, self._planning = self._planning.result(), None
+        for name, follower in zip(self.names, followers):
+            if name in found and follower.needs_move:  # (still: not disengaged meanwhile)
+                follower.begin_move(found[name], state)
+
+    def _resume(self) -> None:
+        """Once no axis moves onto its cam, let the line shaft follow the master (or rest,
+        saying why an axis did not engage)."""
+        if self.shaft.why != MOVING or self._moving():
+            return
+        refused = [(name, follower.reason) for name, follower in
+                   zip(self.names, self.followers) if follower.wanted and follower.reason]
         if refused:
             self.shaft.halt('not engaged: ' + by_axis(*zip(*refused)))
         else:

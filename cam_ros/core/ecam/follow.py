@@ -46,7 +46,7 @@ from .engage import Blend, Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, Setpoints
 from .master_tracker import MasterState
-from .moves import AxisState, MasterMotion, Move, on_cam, plan_move
+from .moves import AxisState, MasterMotion, Move, MoveRequest, on_cam
 from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks, Plan,
                            plan_blend, plan_speed, shifted, SlaveLimits)
 from .stop import Stop
@@ -167,16 +167,30 @@ class Follower:
         self.phase, self.reason, self._pending = HOLDING, '', True
         self._path = self.joined
 
-    def take_move(self, move: Optional[Move], why: str = '') -> None:
-        """Make the move just begun a checked one (delayed to its turn), or refuse it: hold
-        where it started, saying why."""
-        if move is not None:
-            self._move = move
+    def move_request(self, master: MasterMotion) -> MoveRequest:
+        """Return the move due (needs_move) with the virtual master resting as master, to plan
+        (MoveRequest.plan) here or elsewhere; begin_move then makes it."""
+        origin = self._origin()
+        assert origin is not None
+        return MoveRequest(self.cam, self.limits, AxisState(origin), master,
+                           self.config.nominal_speed, self.unit, self._peaks[1])
+
+    def begin_move(self, found: Move | str, state: MasterState) -> None:
+        """Begin a planned (and checked) move at this sample, or hold saying why not."""
+        self._begin_at(state)
+        if isinstance(found, str):
+            self.phase, self.reason = HOLDING, found
+            self.events.append(f'not engaged: {found}')
             return
-        assert self._move is not None
-        self.held, self._move = self._move.start.position, None
-        self.phase, self.reason, self._path = HOLDING, why, self.joined
-        self.events.append(f'not engaged: {why}')
+        self._turns, self._path = found.turns, found.cam
+        if found.duration == 0.0:
+            return
+        self.phase, self._move, self._move_ns = ENGAGING, found, state.stamp_ns
+        gap = abs(found.start.position - float(found.cam.derivatives(state.track).y))
+        self.events.append(
+            f'{"immediate engagement moves" if self.config.mode == IMMEDIATE else "moves"} '
+            f'onto its cam: {self.unit.say(gap)} in {found.duration:.6g} s'
+            + (f' after {found.delay:.6g} s' if found.delay else ''))
 
     def change(self, cam: ElectronicCam, config: EngageConfig,
                limits: Optional[SlaveLimits] = None) -> str:
@@ -218,7 +232,7 @@ class Follower:
         if self.phase == STOPPING:
             return self._stopping(state)
         if self._pending and self.wanted:
-            if not (self.needs_move and state.omega):  # a move waits for the line shaft's rest
+            if not self.needs_move:  # a move is its machine's to plan (SlaveAxes)
                 self._begin(state)
         elif self.phase == WAITING_CYCLE:
             self._wait_for_cycle(track)
@@ -352,35 +366,21 @@ class Follower:
                     f'{self.unit.say(origin)} at rest (use ramp)')
         return ''
 
-    def _begin(self, state: MasterState) -> None:
-        """Start an engagement at this master sample in the configured mode."""
-        track, origin, mode = state.track, self._origin(), self.config.mode
+    def _begin_at(self, state: MasterState) -> None:
+        """Engage at this master sample: on the cam from here (a one-shot cam's start)."""
         self._pending, self.reason = False, ''
-        self.phase, self._path, self._start = ENGAGED, self.joined, track
-        if origin is None:
+        self.phase, self._path, self._start = ENGAGED, self.joined, state.track
+
+    def _begin(self, state: MasterState) -> None:
+        """Start an engagement without a move at this master sample (see needs_move)."""
+        origin = self._origin()
+        self._begin_at(state)
+        if origin is None or self.config.mode != NEXT_CYCLE:
             return
-        if mode == NEXT_CYCLE:
-            problem = self._next_cycle_problem(origin)
-            self.phase, self.reason = (HOLDING, problem) if problem else (WAITING_CYCLE, '')
-            if not problem and self.limits.turn:
-                self._turns = round((origin - float(self.cam.slave(0.0)[0])) / self.limits.turn)
-            return
-        if mode == IMMEDIATE and not self.limits.limited and not self.limits.turn:
-            return
-        move = plan_move(self.cam, self.limits, AxisState(origin), MasterMotion(track, 0.0),
-                         self.config.nominal_speed, self.unit, self._peaks[1])
-        if isinstance(move, str):
-            self.phase, self.reason = HOLDING, move
-            self.events.append(f'not engaged: {move}')
-            return
-        self._turns, self._path = move.turns, move.cam
-        if move.duration == 0.0:
-            return
-        self.phase, self._move, self._move_ns = ENGAGING, move, state.stamp_ns
-        self.events.append(
-            f'{"immediate engagement moves" if mode == IMMEDIATE else "moves"} onto its cam: '
-            f'{self.unit.say(abs(move.start.position - float(move.cam.derivatives(track).y)))} '
-            f'in {move.duration:.6g} s')
+        problem = self._next_cycle_problem(origin)
+        self.phase, self.reason = (HOLDING, problem) if problem else (WAITING_CYCLE, '')
+        if not problem and self.limits.turn:
+            self._turns = round((origin - float(self.cam.slave(0.0)[0])) / self.limits.turn)
 
     def _begin_stop(self, why: str) -> None:
         """Stop the slave from its last command within slave.max_acceleration, then hold."""

@@ -301,6 +301,23 @@ def plan_move(cam: ElectronicCam, limits: SlaveLimits, start: AxisState, master:
     return str(found[0])
 
 
+class MoveRequest(NamedTuple):
+    """What plan_move takes, gathered where a move is due so it can be planned elsewhere."""
+
+    cam: ElectronicCam
+    limits: SlaveLimits
+    start: AxisState
+    master: MasterMotion
+    nominal_speed: float
+    unit: AxisUnit
+    peaks: CamPeaks
+
+    def plan(self) -> Union[Move, str]:
+        """Return plan_move's answer."""
+        return plan_move(self.cam, self.limits, self.start, self.master, self.nominal_speed,
+                         self.unit, self.peaks)
+
+
 def _bounds(limits: SlaveLimits, peaks: CamPeaks, own: Peaks, jerk: float,
             nominal_speed: float) -> Union[Bounds, str]:
     """Return ruckig's bounds on e (see the module), or why there are none."""

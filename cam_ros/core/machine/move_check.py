@@ -263,7 +263,7 @@ def sequence_moves(machine: Machine, moves: Mapping[str, Move],
 def checked_moves(machine: Machine, moves: Mapping[str, Move],
                   master: MasterMotion) -> Union[dict[str, Move], str]:
     """Return the moves to make (sequence_moves: together, else one after another), or why
-    none: the check of an engagement's moves on the line shaft (ecam.axes.MoveCheck)."""
+    none: the check of an engagement's moves on the line shaft (ecam.engagement.CheckMoves)."""
     found = sequence_moves(machine, moves, master)
     return found if isinstance(found, str) else found.moves
 
