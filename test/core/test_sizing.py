@@ -157,6 +157,7 @@ def test_limit_that_never_binds_stops_at_the_search_bound(follower, motion):
     else:
         smallest = np.ptp(motion[0]) * 2.0 ** -40
     assert sizing.base_radius == pytest.approx(smallest, rel=1e-12)
+    assert sizing.tolerance == SIZING_TOLERANCE  # the result states the tolerance it meets
 
 
 def test_geometry_can_govern():
