@@ -36,3 +36,8 @@ def kept(function: Callable[..., T], *inputs: Any) -> T:
     text = repr(tuple((type(value), value) for value in inputs))
     result: T = _result(_Inputs(function, text, inputs))
     return result
+
+
+def forget() -> None:
+    """Drop every kept result: each is computed anew when next asked for."""
+    _result.cache_clear()

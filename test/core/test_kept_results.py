@@ -17,7 +17,7 @@ from cam_ros.core.config.schema import parse_parameters
 from cam_ros.core.design import CamDesign, checked_geometry
 from cam_ros.core.extremes import CHECK_SAMPLES
 from cam_ros.core.geometry.check import GeometryCheck
-from cam_ros.core.motion._law_base import characteristic_values
+from cam_ros.core.kept import forget
 from cam_ros.core.motion.inflection import inflected
 from cam_ros.core.motion.laws import make_law, SccaLaw
 
@@ -37,18 +37,26 @@ LAWS = {'cycloidal': lambda: make_law('cycloidal'),
 def test_a_law_built_again_gets_the_values_searched_for_its_equal(name: str) -> None:
     first, again = LAWS[name](), LAWS[name]()
     assert first is not again and first == again
-    searched = characteristic_values(first._derivatives, first.breakpoints)  # not kept
-    assert (first.cv, first.ca, first.cj) == searched
-    assert again._characteristic_values is first._characteristic_values  # searched once
+    kept_values = first._characteristic_values
+    assert again._characteristic_values is kept_values  # searched once
+    forget()
+    searched = LAWS[name]()._characteristic_values  # nothing kept: searched anew
+    assert searched is not kept_values and searched == kept_values
 
 
 def test_laws_told_apart_by_a_field_or_the_sign_of_a_zero_are_searched_each() -> None:
     laws = [SccaLaw(0.3, 0.2, 0.5), SccaLaw(0.25, 0.25, 0.5), SccaLaw(0.5, 0.0, 0.5),
             SccaLaw(0.5, -0.0, 0.5)]
     assert laws[2] == laws[3]  # equal as dataclasses: 0.0 == -0.0
-    for law in laws:
-        assert (law.cv, law.ca, law.cj) == characteristic_values(law._derivatives,
-                                                                 law.breakpoints)
+    searched = []
+    for law in laws:  # each searched anew, nothing kept
+        forget()
+        searched.append((law.cv, law.ca, law.cj))
+    forget()
+    again = [SccaLaw(0.3, 0.2, 0.5), SccaLaw(0.25, 0.25, 0.5), SccaLaw(0.5, 0.0, 0.5),
+             SccaLaw(0.5, -0.0, 0.5)]  # the same laws built again, all kept together
+    assert [(law.cv, law.ca, law.cj) for law in again] == searched
+    assert again[3]._characteristic_values is not again[2]._characteristic_values
     assert laws[0].ca != laws[1].ca
     assert laws[3]._characteristic_values is not laws[2]._characteristic_values
 
