@@ -153,11 +153,16 @@ def test_stacked_cams_give_every_axis_its_exact_commands_through_its_mapping(nam
     tables = [*others, *([TABLES[name]] * len(MAPPINGS))]
     cams = [*(ElectronicCam(table.program, MAPPINGS[1]) for table in others),
             *(ElectronicCam(TABLES[name].program, mapping) for mapping in MAPPINGS)]
+    assert_exact_commands(cams, tables, seed=3)
+
+
+def assert_exact_commands(cams, tables, seed):
+    """Check a stack's commands at 300 random master samples against each cam's setpoints."""
     stacked = CompiledCams(cams, tables)
     scans = [dense(table.program) for table in tables]
     strokes = [np.ptp(scan[0]) for scan in scans]
     peaks = [np.abs(scan).max(axis=1) for scan in scans]
-    rng = np.random.default_rng(3)
+    rng = np.random.default_rng(seed)
     for _ in range(300):
         master, omega = rng.uniform(-300.0, 300.0), rng.uniform(-70, 70)
         position, velocity = stacked.commands(master, omega)
@@ -177,16 +182,4 @@ def test_cams_that_never_advance_give_their_exact_commands_modulo_a_cycle():
     assert not any(table.program.advance for table in tables)
     cams = [ElectronicCam(TABLES[name].program, mapping) for name in names
             for mapping in MAPPINGS]
-    stacked = CompiledCams(cams, tables)
-    scans = [dense(table.program) for table in tables]
-    strokes, peaks = [np.ptp(scan[0]) for scan in scans], [np.abs(scan[1]).max() for scan in scans]
-    rng = np.random.default_rng(4)
-    for _ in range(300):
-        master, omega = rng.uniform(-300.0, 300.0), rng.uniform(-70, 70)
-        position, velocity = stacked.commands(master, omega)
-        for index, cam in enumerate(cams):
-            k, m = cam.mapping.slave_scaling, cam.mapping.master_scaling
-            exact = cam.setpoints(master, omega, 0.0)
-            assert abs(position[index] - exact.position) <= ACCURACY * abs(k) * strokes[index]
-            assert abs(velocity[index] - exact.velocity) <= \
-                ACCURACY * abs(k / m * omega) * peaks[index]
+    assert_exact_commands(cams, tables, seed=4)

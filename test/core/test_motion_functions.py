@@ -75,12 +75,17 @@ def test_a_design_of_dwells_and_trigonometric_laws_is_lines_and_quintic_pieces()
         assert program.segment_at(0.5 * (x0 + x1)) == owner
         assert (kind == LINE) == (owner in (0, 2))
         x = np.linspace(x0, x1, 2001)
-        if kind == LINE:
-            fitted = np.interp(x, [x0, x1], function.s[i:i + 2])
-        else:
-            values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
-            fitted = quintic(x0, x1, *values, x)
-        assert np.abs(fitted - program.evaluate(x).s).max() <= tolerance
+        assert np.abs(interval_positions(function, i, x) - program.evaluate(x).s).max() \
+            <= tolerance
+
+
+def interval_positions(function, i, x):
+    """Return interval i's positions at x: its line, or its quintic through its two points."""
+    x0, x1 = function.angle[i:i + 2]
+    if function.kinds[i] == LINE:
+        return np.interp(x, [x0, x1], function.s[i:i + 2])
+    values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
+    return quintic(x0, x1, *values, x)
 
 
 def test_a_3_4_5_rise_between_dwells_is_one_rest_to_rest_quintic():
@@ -109,12 +114,7 @@ def test_a_3_4_5_segment_ending_where_the_velocity_jumps_is_pieced_within_the_to
                              Segment(make_law('polynomial_345'), 270 * K, 360 * K, 0.03, 0.0)))
     function = motion_function(program, tolerance)
     assert set(function.pieced) == {1, 3} and function.max_error <= tolerance
-    for i, kind in enumerate(function.kinds):
-        x0, x1 = function.angle[i:i + 2]
-        x = np.linspace(x0, x1, 2001)
-        if kind == LINE:
-            fitted = np.interp(x, [x0, x1], function.s[i:i + 2])
-        else:
-            values = [(function.s[j], function.ds[j], function.d2s[j]) for j in (i, i + 1)]
-            fitted = quintic(x0, x1, *values, x)
-        assert np.abs(fitted - program.evaluate(x).s).max() <= tolerance, (i, kind)
+    for i in range(len(function.kinds)):
+        x = np.linspace(*function.angle[i:i + 2], 2001)
+        assert np.abs(interval_positions(function, i, x) - program.evaluate(x).s).max() \
+            <= tolerance, i
