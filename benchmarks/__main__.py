@@ -24,6 +24,7 @@ from benchmarks.recording import recording_figures, RecordingSizes
 from benchmarks.report import Figure, machine, write_results
 from benchmarks.ros import BENCH_DIR, DEFAULT_CONFIG, REPO, RosGraph
 from benchmarks.service import service_figures, ServiceSizes
+from benchmarks.studio import studio_figures, StudioSizes
 from cam_ros.core import build_design, load_config
 
 
@@ -44,6 +45,7 @@ class Sizes:
     ecam: EcamSizes = field(default_factory=EcamSizes)
     machine: MachineSizes = field(default_factory=MachineSizes)
     cli: CliSizes = field(default_factory=CliSizes)
+    studio: StudioSizes = field(default_factory=StudioSizes)
 
 
 def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figure]:
@@ -63,6 +65,7 @@ def run(sizes: Sizes, workdir: Path, config: Path = DEFAULT_CONFIG) -> list[Figu
         figures.extend(ecam_figures(graph, sizes.ecam))
         figures.extend(machine_figures(graph, sizes.machine))
         figures.extend(cli_figures(graph, sizes.cli))
+    figures.extend(studio_figures(sizes.studio))  # in Debian's chromium
     return figures
 
 

@@ -11,6 +11,8 @@ from benchmarks.ecam import EcamSizes
 from benchmarks.machine import MachineSizes
 from benchmarks.recording import RecordingSizes
 from benchmarks.service import ServiceSizes
+from benchmarks.studio import CHROMIUM, StudioSizes
+from prerequisites import require
 
 TINY = Sizes(
     core_counts=(1000,), core_repeats=3, loop_count=1000, loop_repeats=3, geometry_count=360,
@@ -24,10 +26,12 @@ TINY = Sizes(
     ecam=EcamSizes(seconds=0.5, warmup_seconds=0.2),
     machine=MachineSizes(axes=(1, 3), latency_axes=3, cpu_axes=3, seconds=0.3,
                          warmup_seconds=0.1),
-    cli=CliSizes(rounds=1))
+    cli=CliSizes(rounds=1), studio=StudioSizes(edits=3, warmup=1))
 CLI_FIGURES = {'cli_call_s', 'cli_param_get_s', 'cli_param_set_s', 'cli_lifecycle_get_s',
                'cli_lifecycle_set_s', 'cli_echo_once_s'}
-FIGURES = CLI_FIGURES | {
+STUDIO_FIGURES = {f'studio_edit_{design}_{edit}_p50_ms' for design in ('machine', '16_axes')
+                  for edit in ('phase', 'speed')}
+FIGURES = CLI_FIGURES | STUDIO_FIGURES | {
     'core_evaluation_1000', 'speedup_over_python_loop_1000', 'design_evaluate_ms',
     'design_geometry_ms', 'design_evaluate_1000', 'design_evaluate_peak_memory_1000',
     'design_report_ms', 'design_evaluate_dynamics_ms',
@@ -41,7 +45,7 @@ FIGURES = CLI_FIGURES | {
 }
 FIGURE_FIELDS = {'key', 'name', 'value', 'unit', 'reference', 'reference_value', 'target', 'note',
                  'inverse', 'extra', 'ratio', 'met'}
-TARGETED = {*CLI_FIGURES, 'service_p50_ms', 'service_p99_ms', 'design_report_ms',
+TARGETED = {*CLI_FIGURES, *STUDIO_FIGURES, 'service_p50_ms', 'service_p99_ms', 'design_report_ms',
             'design_evaluate_peak_memory_1000',
             'recorder_messages_per_s', 'recorder_written_at_500_hz',
             'recording_publish_overhead',
@@ -52,6 +56,8 @@ TARGETED = {*CLI_FIGURES, 'service_p50_ms', 'service_p99_ms', 'design_report_ms'
 
 
 def test_benchmarks_run_on_tiny_sizes_and_write_sane_results(tmp_path: Path) -> None:
+    require(CHROMIUM, "make bench's studio rows need Debian's chromium (apt-get install "
+            'chromium)')
     json_path, markdown_path = tmp_path / 'results.json', tmp_path / 'results.md'
     header, table = benchmark(TINY, json_path, markdown_path)
 
