@@ -3,7 +3,8 @@
 Routes: GET / (the page), GET /assets/NAME (its script, style sheet and plotly.js, all served
 here: nothing from the internet), GET /api/design (the file's values as texts), POST
 /api/view (what the page draws for edited values, or the one-line error at its field), POST
-/api/position (a motion's position at a cam angle, for splitting a segment), POST /api/report,
+/api/position (a motion's position at a cam angle, for splitting a segment), POST /api/axes
+(a machine's values with an axis added or removed, as the core judges them), POST /api/report,
 POST /api/save, POST /api/export (a download made by the CLI's command); with a live node
 (live.py): GET /api/live (what the node does), POST /api/live/engage, POST /api/live/apply.
 
@@ -35,6 +36,7 @@ from cam_ros.core.errors import one_line
 from cam_ros.core.machine import is_machine
 from cam_ros.core.machine.served import machine_from_values
 from cam_ros.studio import exports
+from cam_ros.studio.axes import with_axis, without_axis
 from cam_ros.studio.document import DesignDocument, typed_values, value_text
 from cam_ros.studio.view import design_view, json_ready
 
@@ -43,7 +45,8 @@ if TYPE_CHECKING:  # only a studio started with --node imports rclpy
 
 STATIC = Path(__file__).resolve().parent / 'static'
 #: The page's own files, by the name the page asks for, and their media types.
-ASSETS = {'studio.js': 'text/javascript', 'live.js': 'text/javascript', 'studio.css': 'text/css',
+ASSETS = {'studio.js': 'text/javascript', 'axes.js': 'text/javascript',
+          'live.js': 'text/javascript', 'studio.css': 'text/css',
           'plotly.min.js': 'text/javascript'}
 LOOPBACK_HOSTS = ('127.0.0.1', 'localhost', '::1')
 TOKEN_COOKIE = 'cam_ros_studio_token'
@@ -168,6 +171,20 @@ def create_app(document: DesignDocument, token: str | None = None,
         state = axis.design.evaluate([math.radians(angle)])
         return {'position': float(state.position[0]) * factor, 'unit': unit}
 
+    def axes(body: dict[str, Any]) -> Any:
+        values = values_of(body)
+        name, source = body.get('add'), body.get('copy_of')
+        if isinstance(name, str) and isinstance(source, str):
+            changed = with_axis(values, name, source)
+        elif isinstance(body.get('remove'), str):
+            changed = without_axis(values, body['remove'])
+        else:
+            raise InvalidParameter('axes', None, 'an axis edit needs add and copy_of, or remove')
+        machine_from_values(changed)  # judged by the core, as every edit
+        if isinstance(name, str):
+            document.copies[name] = str(source)  # its file section: a copy of the source's
+        return {'values': {key: value_text(value) for key, value in changed.items()}}
+
     def report(body: dict[str, Any]) -> Any:
         return {'text': exports.report(document, values_of(body), bool(body.get('json')))}
 
@@ -211,6 +228,7 @@ def create_app(document: DesignDocument, token: str | None = None,
               Route('/api/design', design),
               Route('/api/view', handler(view), methods=['POST']),
               Route('/api/position', handler(position), methods=['POST']),
+              Route('/api/axes', handler(axes), methods=['POST']),
               Route('/api/report', handler(report), methods=['POST']),
               Route('/api/save', handler(save), methods=['POST']),
               Route('/api/export', handler(export), methods=['POST']),

@@ -21,6 +21,7 @@ from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
 from cam_ros.core import InvalidParameter, read_parameters_file
 from cam_ros.core.config.params_file import NODE_NAMES, parse_yaml
+from cam_ros.studio.axes import insert_section, plain_copy, remove_section
 
 #: A value as the page shows it: the text of a scalar, or a list of them.
 Text = Any
@@ -90,6 +91,7 @@ class DesignDocument:
         self.yaml.width = 4096  # never fold a long flow list
         self.values = read_parameters_file(self.path)  # refuses what the CLI refuses
         self.tree = self.yaml.load(self.path.read_text(encoding='utf-8'))
+        self.copies: dict[str, str] = {}  # an added axis: the axis it was made a copy of
 
     @property
     def folder(self) -> Path:
@@ -102,6 +104,7 @@ class DesignDocument:
             return self._text(values)
 
     def _text(self, values: Mapping[str, Any]) -> str:
+        self._axis_sections(values)
         for key in self.values.keys() - values.keys():
             self._remove(key)
         for key, value in values.items():
@@ -125,6 +128,29 @@ class DesignDocument:
         if lost:
             raise InvalidParameter(lost[0], values.get(lost[0]), f'was saved to {self.path} '
                                    f'but reads back as {self.values.get(lost[0])!r}')
+
+    def _axis_sections(self, values: Mapping[str, Any]) -> None:
+        """Remove the section of each axis values drop; add each new axis's as a copy of its
+        source's (axes.py), its values then set as any other."""
+        old, new = self.values.get('axes'), values.get('axes')
+        if not isinstance(old, list) or not isinstance(new, list):
+            return
+        for name in old:
+            found = self._find(name) if name not in new else None
+            if found is not None and isinstance(found[0][found[1]], Mapping):
+                remove_section(*found)
+        for name in new:
+            source = self._find(self.copies.get(name, '')) if name not in old else None
+            if source is None or self._find(name) is not None:
+                continue
+            section, key = source
+            placed = [axis for axis in old if axis in section and axis in new]
+            insert_section(section, name, plain_copy(section[key]), placed[-1] if placed
+                           else key)
+            for flat in [f'{name}.{own[len(key) + 1:]}' for own in self.values
+                         if own.startswith(f'{key}.')]:
+                if flat not in values:  # a key of the source the new axis lacks
+                    self._remove(flat)
 
     def _sections(self) -> list[CommentedMap]:
         """Return the parameter sections the core reads, in file order."""
@@ -163,8 +189,14 @@ class DesignDocument:
             mapping[name] = _node(value)
 
     def _remove(self, key: str) -> None:
+        """Remove a flat parameter; a mapping it leaves empty goes too."""
         while (found := self._find(key)) is not None:
-            del found[0][found[1]]
+            mapping, name = found
+            del mapping[name]
+            outer = key[:-len(name) - 1]
+            holder = self._find(outer) if not mapping and outer else None
+            if holder is not None and holder[0][holder[1]] is mapping:
+                self._remove(outer)
 
 
 def _node(value: Any) -> Any:

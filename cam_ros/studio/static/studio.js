@@ -250,6 +250,7 @@ function render() {
   renderTabs();
   renderMotion();
   renderFields();
+  renderAxisEdit();
   document.querySelector('[data-action="undo"]').disabled = !studio.undo.length;
   document.querySelector('[data-action="redo"]').disabled = !studio.redo.length;
 }
