@@ -154,3 +154,18 @@ def test_a_single_cam_has_no_axes_to_edit(page, studio: Studio) -> None:
     assert page.locator('#axis-edit').is_hidden()
     answer = studio.post('api/axes', {'values': studio.texts(), 'add': 'b', 'copy_of': 'a'})
     assert answer.status == 422 and answer.json()['error']['key'] == 'axes'
+
+
+@pytest.mark.parametrize('studio', ['machine.yaml'], indirect=True)
+def test_a_removed_axis_takes_its_heading_and_leaves_the_next_ones(studio: Studio) -> None:
+    texts = studio.post('api/axes', {'values': studio.texts(), 'remove': 'knife'}).json()
+    assert studio.post('api/save', texts).status == 200
+    # the jaw's heading follows the knife's last key (ruamel keeps it there): it stays
+    knife = [line for line in comment_lines(MACHINE.read_text())
+             if line.startswith(('# Rotary knife drum', "# with the web's speed", '# (12.7',
+                                 '# slave.offset -20', '# blade is within'))]
+    assert len(knife) == 5
+    assert comment_lines(studio.path.read_text()) == [
+        line for line in comment_lines(MACHINE.read_text()) if line not in knife]
+    saved = read_parameters_file(studio.path)
+    assert saved['axes'] == ['feeder', 'jaw'] and saved['interference.axis_b'] == ['jaw']
