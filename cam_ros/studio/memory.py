@@ -2,9 +2,10 @@
 
 An edit changes one value; in a machine of many axes, the core would rebuild every axis and
 check every pair again. An axis's design depends on its own values and the machine-wide ones
-(not on the interference section), a pair's check on the pair and its two axes: each is kept
-under those values and asked of the core again only when one of them changed. The answers are
-the core's own (build_design, check_interference), never a copy of their work.
+(not on the interference section), a pair's check on the pair and its two axes' electronic
+cams (their positions over the machine angle, a rotary axis's modulo a turn: not on cam_speed,
+say): each is kept under those and asked of the core again only when one of them changed. The
+answers are the core's own (build_design, check_interference), never a copy of their work.
 """
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from cam_ros.core import build_design, CamDesign, InvalidParameter
 from cam_ros.core.machine import (Axis, check_interference, is_machine, Machine, PairCheck,
                                   parse_machine)
 from cam_ros.core.machine.config import axis_error
+from cam_ros.core.machine.interference import rotary
 from cam_ros.core.machine.served import machine_from_values
 
 #: Answers kept of each kind: a few edits' worth of every axis and pair of a large machine.
@@ -63,7 +65,8 @@ def machine_and_checks(values: Mapping[str, Any]) -> tuple[Machine, tuple[PairCh
         design = _kept(_DESIGNS, keys[name], lambda: build(name, axis_config))
         axes.append(Axis(name, design, design.electronic_cam))
     machine = Machine(config, tuple(axes))
-    pair_keys = [(pair, keys[pair.axis_a], keys[pair.axis_b]) for pair in config.interference]
+    cams = {axis.name: (repr(axis.cam), rotary(axis)) for axis in axes}  # all a pair reads
+    pair_keys = [(pair, cams[pair.axis_a], cams[pair.axis_b]) for pair in config.interference]
     missing = tuple(pair for pair, key in zip(config.interference, pair_keys)
                     if key not in _PAIRS)
     found = dict(zip(missing, check_interference(

@@ -52,3 +52,15 @@ def test_a_text_typed_again_is_its_kept_value_and_a_refusal_names_each_key() -> 
         with pytest.raises(InvalidParameter) as raised:
             typed_value(key, '[cycloidal, dwell]')
         assert raised.value.parameter == key
+
+
+def test_a_new_cam_speed_checks_no_pair_again_and_a_phase_shift_its_pairs_only() -> None:
+    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
+    _, checks = machine_and_checks(values)
+    values['cam_speed'] = 2.0 * values['cam_speed']  # the positions over the angle stay
+    _, again = machine_and_checks(values)
+    assert all(kept is before for kept, before in zip(again, checks))
+    values['knife.master.offset_deg'] = 90.0  # pair 1 (jaw-knife) reads the knife
+    _, shifted = machine_and_checks(values)
+    assert shifted[0] is again[0] and shifted[1] is not again[1]
+    assert shifted == check_interference(machine_from_values(values))
