@@ -6,13 +6,15 @@ import math
 import sys
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator, Sequence
+from typing import Any, Iterator, Sequence, TYPE_CHECKING
 
 import numpy as np
 
-from cam_ros.core import (build_design, CamDesign, InvalidParameter, parse_parameters,
-                          read_parameters_file)
+from cam_ros.core.errors import InvalidParameter
 from cam_ros.exit_codes import EXIT_FAILED, EXIT_OK
+
+if TYPE_CHECKING:  # the ROS commands use these helpers without loading any design code
+    from cam_ros.core import CamDesign
 
 #: The dynamics arrays `sample` and `call` add for a design with dynamics: (name, field, unit).
 DYNAMICS_FIELDS = (
@@ -41,6 +43,7 @@ def load_design(config: str | Path, axis: str | None = None) -> CamDesign:
     A machine file without axis is refused (the command takes one cam), as is an axis of a
     single-cam file; raises InvalidParameter.
     """
+    from cam_ros.core import build_design, parse_parameters, read_parameters_file
     from cam_ros.core.machine import build_machine, is_machine, parse_machine
 
     values = read_parameters_file(config)

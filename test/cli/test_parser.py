@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import inspect
+import subprocess
+import sys
 
 import pytest
 from cli_support import assert_one_error_line, DEFAULT_CONFIG, run_cli
@@ -117,3 +119,23 @@ def test_a_negative_number_in_exponent_form_is_a_value_not_an_option(value, tmp_
                   '--tolerance', value)
     assert_one_error_line(run, 'export', f"--tolerance = '{value}'", '> 0')
     assert not target.exists()
+
+
+def test_a_command_to_a_running_node_is_parsed_and_run_without_design_code():
+    # The design commands' choices import the cam tables and the writers, and a design the
+    # whole core: some 0.2 s of a command line's 1 s round trip (docs/cli.md).
+    code = ('import sys\n'
+            'from cam_ros.cli import build_parser, main\n'
+            'main(["param", "get", "--help"])\n'
+            'import cam_ros.commands.ros, cam_ros.commands.control, cam_ros.commands.lifecycle\n'
+            'print(" ".join(sorted(name for name in sys.modules if name.startswith((\n'
+            '    "cam_ros.cli.design", "cam_ros.output", "cam_ros.core.design",\n'
+            '    "cam_ros.core.geometry.check", "cam_ros.core.machine")))))\n'
+            'print(len(build_parser().commands), len(build_parser(design=False).commands))\n')
+    done = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                          timeout=60, check=True)
+    loaded, counts = done.stdout.splitlines()[-2:]
+    assert loaded == ''
+    every, ros = (int(count) for count in counts.split())
+    assert 0 < ros < every and set(COMMANDS) - {'report', 'sample', 'plot', 'export'} <= set(
+        build_parser(design=False).commands)
