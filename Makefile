@@ -12,10 +12,16 @@ PYTEST_ARGS ?=
 
 # Only when there is something to build: check the system first (tools/preflight.sh, with the
 # venv's Python once there is one), so a missing tool stops the set-up within seconds, before the
-# venv is made or anything is downloaded.
+# venv is made or anything is downloaded. The studio's browser tests drive Debian's chromium
+# (Playwright cannot download its own here): installed when missing and the user is root with
+# apt-get, as .ci/run does; otherwise set-up says so and those tests say why they skip.
+CHROMIUM := /usr/bin/chromium
 setup:
 	@$(MAKE) --no-print-directory --question $(VENV)/.cam_ros.stamp || { sh tools/preflight.sh \
 	  $(or $(wildcard $(PY)),$(PYTHON)) && $(MAKE) --no-print-directory $(VENV)/.cam_ros.stamp; }
+	@[ -x $(CHROMIUM) ] || { [ "$$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1 && \
+	  apt-get update -qq && apt-get install -y -qq chromium >/dev/null; } || \
+	  echo "make setup: no $(CHROMIUM): the studio's browser tests skip (apt-get install chromium)" >&2
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
