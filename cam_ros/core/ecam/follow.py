@@ -130,9 +130,9 @@ class Follower:
     def during(self, master: MasterMotion) -> Move:
         """Return what the slave does while others move onto their cams: its own move, its
         cam, or the position it holds."""
-        origin = self._origin()
         if self._move is not None:
             return self._move
+        origin = self._origin()
         if self.phase in RUNNING or origin is None:
             return on_cam(self.joined, self.limits, master)
         return on_cam(Held(origin), self.limits, master)
@@ -196,9 +196,8 @@ class Follower:
                limits: Optional[SlaveLimits] = None) -> str:
         """Take a new design, start modes and limits; return how the cam changes."""
         old, self.config = self.cam, config
-        if limits is not None and limits != self.limits:
-            self.limits = limits
-            self._peaks = (old, self._peaks[1] if self._peaks[0] is old else CamPeaks.of(old))
+        if limits is not None:
+            self.limits = limits  # (the cam's peaks are its own, whatever the limits)
         self.handover = None
         if self.phase not in RUNNING or self._last is None:
             self._set_cam(cam)
@@ -335,11 +334,9 @@ class Follower:
         """Return the shortest blend within the limits onto the cam (whole turns chosen)."""
         omega = plan_speed(state.omega, self.config.nominal_speed)
         position = float(start.derivatives(state.track).y)
-        if self.limits.limited:
-            cam_peaks = self._cam_peaks(omega, 0.0)
-        else:
-            cam_peaks = CamPeaks.of(cam).at(omega, 0.0, 0)
-        candidates = join_turns(cam, state.track, position, self.limits, held=False)
+        cam_peaks = self._peaks[1].at(omega, 0.0, self.limits.direction  # the new cam's
+                                      if self.limits.limited else 0)
+        candidates = join_turns(cam, state.track, position, self.limits)
         plans = [plan_blend(start, shifted(cam, turns, self.limits), state.track, omega, 0.0,
                             self.config.distance, self.limits, self.unit, cam_peaks)
                  for turns in candidates]

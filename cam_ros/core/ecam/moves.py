@@ -294,7 +294,7 @@ def plan_move(cam: ElectronicCam, limits: SlaveLimits, start: AxisState, master:
     if isinstance(bounds, str):
         return bounds
     found = [_plan_onto(shifted(cam, turns, limits), turns, limits, start, master, bounds, unit)
-             for turns in join_turns(cam, master.theta, start.position, limits, held=False)]
+             for turns in join_turns(cam, master.theta, start.position, limits)]
     moves = [move for move in found if isinstance(move, Move)]
     if moves:
         return min(moves, key=lambda move: move.duration)

@@ -259,13 +259,14 @@ def shifted(cam: ElectronicCam, turns: int, limits: SlaveLimits) -> ElectronicCa
                                               + turns * limits.turn))
 
 
-def join_turns(cam: ElectronicCam, q0: float, position: float, limits: SlaveLimits,
-               held: bool) -> list[int]:
+def join_turns(cam: ElectronicCam, q0: float, position: float,
+               limits: SlaveLimits) -> list[int]:
     """
     Return the whole slave turns to try, best first, for joining the cam from position at q0.
 
-    The nearest; with a direction, also the nearest ahead of the slave in that direction (the
-    only one for a slave at rest: it cannot reach a cam behind it without turning back).
+    The nearest; with a direction, also the nearest ahead of the slave in that direction (with
+    the master at rest the only one it can reach without turning back: moves.plan_move refuses
+    the other).
     """
     if not limits.turn:
         return [0]
@@ -274,4 +275,4 @@ def join_turns(cam: ElectronicCam, q0: float, position: float, limits: SlaveLimi
     if not limits.direction:
         return [nearest]
     ahead = math.ceil(behind) if limits.direction > 0 else math.floor(behind)
-    return [ahead] if held or ahead == nearest else [nearest, ahead]
+    return [ahead] if ahead == nearest else [nearest, ahead]
