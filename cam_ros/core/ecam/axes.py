@@ -137,9 +137,10 @@ class SlaveAxes:
         return self.shaft.mode == AT_REST and not self._moving()
 
     def _moving(self) -> bool:
-        """Say whether an axis moves onto its cam, is to, or its move is being planned."""
+        """Say whether an axis moves onto its cam, is to, or its move is being planned (read
+        on every step without noting a tabled sample first: none of this is what it notes)."""
         return self._planning is not None or any(
-            follower.needs_move or follower.move is not None for follower in self.followers)
+            follower.needs_move or follower.move is not None for follower in self._followers)
 
     @property
     def held(self) -> list[Optional[float]]:
@@ -176,7 +177,7 @@ class SlaveAxes:
         """Halt the line shaft while an axis moves onto its cam or is to (see the module)."""
         if self._moving():
             self.shaft.halt(MOVING, idle=not any(follower.phase in FOLLOWING
-                                                 for follower in self.followers))
+                                                 for follower in self._followers))
 
     def _plan_moves(self, state: MasterState) -> None:
         """Begin the moves planned; have those due planned once the line shaft rests."""
