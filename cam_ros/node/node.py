@@ -393,7 +393,8 @@ class CamNode(LifecycleNode):
     def destroy_node(self) -> None:
         """Destroy what configure made (its threads end first, a recording is closed), then go.
 
-        The axes are not held: Ctrl-C and SIGTERM have shut the context down already.
+        The axes are not held (Ctrl-C and SIGTERM end the process; the shutdown transition
+        holds them before).
         """
         self._teardown('node shutting down')
         super().destroy_node()

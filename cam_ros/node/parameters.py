@@ -22,6 +22,7 @@ from typing import Any, Mapping, Sequence
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor, ParameterType
 import rclpy
 from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
 
 from cam_ros.core import InvalidParameter
 from cam_ros.core.config.parameters import (check_type, ParameterSpec, REQUIRED,
@@ -211,14 +212,15 @@ def start_rclpy(args: list[str]) -> str | None:
     """Initialise rclpy with args; return rcl's complaint in one line, or None if it started.
 
     rcl logs its complaint on stderr before it raises: that output is held back (and written out
-    if rclpy starts after all), so a bad ROS argument costs one line like any bad input.
+    if rclpy starts after all), so a bad ROS argument costs one line like any bad input. rclpy
+    installs no signal handlers: cam_node's process takes Ctrl-C and SIGTERM itself.
     """
     sys.stderr.flush()
     with tempfile.TemporaryFile() as held:
         saved = os.dup(2)
         os.dup2(held.fileno(), 2)
         try:
-            rclpy.init(args=args)
+            rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
         except (RCLError, RuntimeError, ValueError) as err:
             return re.sub(r', at \S+:\d+', '', str(err))  # without rcl's source locations
         finally:

@@ -6,6 +6,7 @@ transition; invalid input exits 2 with one line 'cam_node: <message>'.
 from __future__ import annotations
 
 import gc
+import signal
 import sys
 from typing import Sequence
 
@@ -19,7 +20,6 @@ from cam_ros.node.middleware import serve_over_udp
 from cam_ros.node.node import CamNode
 from cam_ros.node.parameters import parse_command_line, start_rclpy, USAGE
 from cam_ros.paths import default_config_path
-from cam_ros.rclpy_gaps import RCLError
 
 
 def _invalid(message: str) -> int:
@@ -28,9 +28,29 @@ def _invalid(message: str) -> int:
     return EXIT_INVALID
 
 
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+SIGNAL_LATENCY_S = 0.1  # the executor's longest wait: how soon a stop signal is acted on
+
+
+def note_stop_signals() -> list[int]:
+    """Return a list that Ctrl-C and SIGTERM append to from now on (also where a shell's '&'
+    ignored them), and nothing else.
+
+    rclpy's own handlers shut the context down at once, from a thread of theirs, while the
+    node's threads (~/evaluate, the master intake, the recorder's, the line shaft's clock) are
+    inside it: the node then logged to a closed /rosout and once crashed (SIGSEGV). Noted here,
+    a signal ends the spin; the node is taken down with its context valid, then rclpy.
+    """
+    heard: list[int] = []
+    for sig in STOP_SIGNALS:
+        signal.signal(sig, lambda signum, _frame: heard.append(signum))
+    return heard
+
+
 def main(args: Sequence[str] | None = None) -> int:
     """Run cam_node until Ctrl-C, SIGTERM or its shutdown transition; exit 2 with one line on
     invalid input (with autostart: a design configure refuses)."""
+    heard = note_stop_signals()
     argv = list(sys.argv if args is None else args)
     try:
         command = parse_command_line(argv, default_config_path())
@@ -49,7 +69,7 @@ def main(args: Sequence[str] | None = None) -> int:
     problem = start_rclpy(command.ros_args)
     if problem:  # a bad remapping or logging argument
         return _invalid(f'invalid ROS arguments: {problem}')
-    executor = SingleThreadedExecutor()  # made first, so a signal never lands inside its set-up
+    executor = SingleThreadedExecutor()
     node = None
     code = 0
     try:
@@ -59,14 +79,12 @@ def main(args: Sequence[str] | None = None) -> int:
         gc.collect()
         gc.freeze()
         executor.add_node(node)
-        executor.spin_until_future_complete(node.finished)  # the shutdown transition ends it
+        while not (heard or node.finished.done()):  # a signal or the shutdown transition
+            executor.spin_once(timeout_sec=SIGNAL_LATENCY_S)
     except CamError as err:
         code = _invalid(str(err))
-    except (KeyboardInterrupt, ExternalShutdownException):
+    except ExternalShutdownException:
         pass
-    except RCLError:
-        if rclpy.ok():
-            raise  # a real failure; otherwise SIGTERM's shutdown raced the executor's wait
     finally:
         executor.shutdown()
         if node is not None:
