@@ -160,8 +160,9 @@ class MasterFollower:
 
     def change(self, axes: Sequence[tuple[str, CamDesign]],
                switches: Mapping[str, Any]) -> None:
-        """Take new designs: offsets blended, other changes at a common place or at once; the
-        line shaft's limits are those of the new designs (computed before the lock)."""
+        """Take new designs: an offset change is a move onto the new cam (line shaft at rest),
+        other changes at a common place or at once; the line shaft's limits are those of the
+        new designs (computed before the lock; taken once the moves onto them begin)."""
         first = axes[0][1].config
         config, values = MasterConfig.from_config(first), first.parameters
         statuses = design_statuses(self._node, axes)
@@ -194,7 +195,7 @@ class MasterFollower:
                 told = follower.change(cam, engage, limits)
                 if design.config.parameters != before:
                     said.append((name, told))
-            self._axes.shaft.retarget(path, any(limit.direction for limit in slave_limits))
+            self._axes.retarget(path, any(limit.direction for limit in slave_limits))
             self._parameters = [dict(design.config.parameters) for _, design in axes]
             self._axes.interfaces = _interfaces(axes)
             if not table.same(self._tracks.table):

@@ -11,6 +11,7 @@ import math
 from concurrent.futures import Future
 
 import numpy as np
+import pytest
 from conftest import CONFIG_DIR
 
 from cam_ros.core import read_parameters_file
@@ -18,6 +19,7 @@ from cam_ros.core.ecam.axes import SlaveAxes
 from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING
 from cam_ros.core.ecam.line_shaft import AT_REST, LOCKED
 from cam_ros.core.ecam.master_tracker import MasterState
+from cam_ros.core.ecam.path_limits import PathLimits
 from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.machine.move_check import checked_moves
 from cam_ros.core.machine.served import machine_from_values
@@ -130,3 +132,51 @@ def test_moves_planned_elsewhere_begin_at_the_step_after_and_are_the_same():
         rows.append(axes.command(MasterState(k * PERIOD, q, 0.0, 0.0, 0.0, q)).position)
     _, inline = machine_axes({'feeder': 0.24, 'jaw': 0.0}, **SLOW_PUSHER)
     np.testing.assert_array_equal(np.array(rows), run(inline, 240.0 * DEG, 1.49))
+
+
+def test_an_offset_change_on_a_running_machine_is_a_stop_a_checked_move_and_a_catch_up():
+    # The jaw closes 10 deg of machine angle earlier: the line shaft stops every axis on its
+    # cam, the jaw alone moves onto its new cam (the others stand), then the line shaft
+    # catches up with the master, every command keeping the 15 mm gap; once locked the
+    # commands are the new cams at the master, exactly.
+    shop, axes = machine_axes({})
+    omega = 10.471975511965978  # cam_speed: 100 cycles/min
+    before = run(axes, 30.0 * DEG, 1.0, omega)
+    assert axes.shaft.mode == LOCKED
+    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
+    values['jaw.master.offset_deg'] = -10.0
+    changed = machine_from_values(values)
+    jaw = changed.axis('jaw')
+    config = jaw.design.config
+    said = axes.followers[2].change(jaw.cam, EngageConfig.from_parameters(config.parameters),
+                                    SlaveLimits.from_config(config))
+    assert said == 'moves onto the new cam in time, with the line shaft at rest'
+    axes.retarget(PathLimits.of([axis.cam for axis in changed.axes],
+                                [SlaveLimits.from_config(axis.design.config)
+                                 for axis in changed.axes],
+                                omega, math.radians(30.0)), False)
+    theta = 30.0 * DEG + omega * 1.0
+    rows, virtual = [], []
+    for k in range(1, 3000):
+        q = theta + omega * k * PERIOD * 1e-9
+        commands = axes.command(MasterState((1000 + k) * PERIOD, q, omega, 0.0,
+                                            omega * PERIOD * 1e-9, q))
+        rows.append(commands.position)
+        virtual.append(axes.virtual.omega)
+    rows = np.vstack([before, rows])
+    assert (0.31 - rows[:, 0] - rows[:, 2]).min() >= 0.015
+    events = axes.events()
+    assert any(event.startswith('jaw: moves onto its new cam') for event in events), events
+    moving = np.flatnonzero(np.abs(np.diff(rows[:, 2])) > 0)
+    at_rest = len(before) + np.flatnonzero(np.array(virtual) == 0.0)
+    jaw_alone = np.intersect1d(moving, at_rest[:-1])
+    assert jaw_alone.size > 10  # the jaw moved with theta_v at rest, the others standing
+    assert np.all(np.diff(rows[jaw_alone[0]:jaw_alone[-1] + 1, [0, 1]], axis=0) == 0.0)
+    assert axes.shaft.mode == LOCKED
+    q = theta + omega * 2999 * PERIOD * 1e-9
+    for name, position in zip(axes.names, rows[-1]):
+        cam = changed.axis(name).cam
+        want = float(cam.setpoints(q).position)
+        turn = 2.0 * math.pi if name == 'knife' else 0.0
+        shift = round((position - want) / turn) * turn if turn else 0.0
+        assert position == pytest.approx(want + shift, abs=1e-12), name

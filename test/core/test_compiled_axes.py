@@ -12,6 +12,7 @@ from cam_ros.core.cam_angles import TWO_PI
 from cam_ros.core.ecam.axes import COMPILED_FROM, SlaveAxes
 from cam_ros.core.ecam.compiled import ACCURACY
 from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, Follower, HOLDING
+from cam_ros.core.ecam.line_shaft import MOVING
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam
 from cam_ros.core.ecam.master_tracker import MasterState
 from cam_ros.core.ecam.moves import MasterMotion
@@ -156,7 +157,8 @@ def test_a_master_turning_back_under_a_one_way_axis_is_followed_by_the_line_shaf
 
 def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them():
     # Only axes.command for 400 samples: the followers are not looked at in between, yet an
-    # offset change then blends from the last command sent, as the exact followers' does.
+    # offset change then finds them where the last command sent left them, as the exact
+    # followers: on their old cams until the line shaft rests.
     fast, alone = followers(), followers()
     axes = SlaveAxes(['feeder', 'knife', 'jaw', 'knife2'], fast, ['position'] * 4)
     k, last = 0, None
@@ -176,13 +178,14 @@ def test_tabled_commands_are_noted_in_the_followers_before_anything_reads_them()
     moved = ElectronicCam(feeder.program, replace(feeder.mapping,
                                                   master_offset=math.radians(10.0)))
     said = [pairs[0].change(moved, EngageConfig()) for pairs in (axes.followers, alone)]
-    assert said[0] == said[1] and said[0].startswith('blended')
+    assert said[0] == said[1] == 'moves onto the new cam in time, with the line shaft at rest'
     q = 3.0 + OMEGA * DT * k
     state = MasterState(k * 10 ** 6, q, OMEGA, 0.0, OMEGA * DT, q)
-    blending, exact = axes.command(state), [f.command(axes.virtual) for f in alone]
-    assert np.abs(np.array(blending.position) - [float(p.position) for p in exact]).max() <= \
+    stopping, exact = axes.command(state), [f.command(axes.virtual) for f in alone]
+    assert axes.shaft.why == MOVING
+    assert np.abs(np.array(stopping.position) - [float(p.position) for p in exact]).max() <= \
         ACCURACY * stroke.max()
-    assert np.abs(np.array(blending.velocity) - [float(p.velocity) for p in exact]).max() <= \
+    assert np.abs(np.array(stopping.velocity) - [float(p.velocity) for p in exact]).max() <= \
         ACCURACY * OMEGA * stroke.max() * 10
 
 

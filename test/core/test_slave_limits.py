@@ -16,8 +16,9 @@ from cam_ros.core import build_design, parse_parameters, read_parameters_file
 from cam_ros.core.ecam.follow import ENGAGED, EngageConfig, ENGAGING, Follower
 from cam_ros.core.ecam.master import ElectronicCam, MasterConfig
 from cam_ros.core.ecam.axes import SlaveAxes
-from cam_ros.core.ecam.line_shaft import FILTERED
+from cam_ros.core.ecam.line_shaft import FILTERED, LOCKED
 from cam_ros.core.ecam.master_tracker import LOST, MasterTracker
+from cam_ros.core.ecam.path_limits import PathLimits
 from cam_ros.core.ecam.slave_limits import AxisUnit, CamPeaks, SlaveLimits
 from cam_ros.core.ecam.stop import Stop
 
@@ -162,22 +163,44 @@ def test_a_master_restart_after_eleven_turns_is_a_new_origin_the_knife_goes_on_f
     assert_rejoined(run, cam, q[-1000:], limits.turn)
 
 
-def test_a_phase_shift_on_a_running_one_way_knife_slows_it_but_never_reverses_it():
+def test_a_phase_shift_on_a_running_one_way_knife_is_a_forward_move_at_rest_in_least_time():
     # master.offset_deg of a web master (m): 1.5 deg is 26 mm of web, a quarter of the cut's
-    # 100 mm; the blend's least travel, 1 deg (17 mm of web), is not enough for that.
-    cam, config, limits, nominal, unit = knife(**{'master.engage_distance_deg': 1.0})
+    # 100 mm. The line shaft stops the knife on its old cam (a synchronized stop), the knife
+    # moves forward onto the new cam in time, then the line shaft catches up with the master.
+    cam, config, limits, nominal, unit = knife()
     run = Run(cam, config, limits, nominal, unit)
     step = nominal * 1e-3
     run.feed(step * np.arange(1, 2000))
-    shifted_cam, shifted_config, *_ = knife(**{'master.offset_deg': 1.5,
-                                               'master.engage_distance_deg': 1.0})
-    said = run.follower.change(shifted_cam, shifted_config)
-    assert said.startswith('blended over')
-    assert float(said.split()[2]) > 1.0  # the least distance is not enough here
+    assert run.axes.shaft.mode == LOCKED
+    shifted_cam, shifted_config, *_ = knife(**{'master.offset_deg': 1.5})
+    assert run.follower.change(shifted_cam, shifted_config, limits).startswith('moves onto')
+    run.axes.retarget(PathLimits.of([shifted_cam], [limits], nominal, shifted_config.distance),
+                      True)
+    begun = None
     q = step * np.arange(2000, 14_000)
-    run.feed(q)
-    assert_within(run, limits)
+    for position in q:
+        run.feed([position])
+        if begun is None and run.follower.move is not None:
+            begun = run.follower.move, run.axes.virtual, len(run.positions)
+    move, virtual, at = begun
+    assert virtual.omega == 0.0 and run.axes.shaft.limits.cams[0] is shifted_cam
+    # From the old cam (a whole number of turns on) where theta_v rests: the move's first
+    # command
+    start = run.positions[at - 1]
+    on_old = float(cam.setpoints(virtual.track).position)
+    assert move.start.position == start
+    assert (start - on_old) / limits.turn == pytest.approx(round((start - on_old) / limits.turn),
+                                                           abs=1e-12)
+    new = float(shifted_cam.setpoints(virtual.track).position)  # where theta_v rests
+    end = new + limits.turn * math.ceil((start - new) / limits.turn)  # the nearest turn ahead
+    # Least time of a rest-to-rest move over d within v, a (no jerk limit): a trapezoid or a
+    # triangle; the move is planned 1e-6 below each limit.
+    d, v, a = end - start, limits.max_velocity, limits.max_acceleration
+    least = d / v + v / a if d >= v * v / a else 2.0 * math.sqrt(d / a)
+    assert least <= move.duration <= least * (1.0 + 1e-5)
+    assert_within(run, limits)  # the stop, the move, the catch-up: within, never backward
     assert_rejoined(run, shifted_cam, q[-1000:], limits.turn)
+    assert run.axes.shaft.mode == LOCKED
 
 
 def test_the_master_turning_back_under_a_one_way_knife_is_followed_standing_on_its_cam():

@@ -9,13 +9,15 @@ loss, a fault and deactivating halt the line shaft: a synchronized stop on the c
 starts and stops as one, and never leaves its cams for it); while the master is silent the node's
 clock steps it (tick).
 
-An engagement that moves an axis off its cam (Follower.needs_move: from where its drive is) is
-made with the line shaft at rest: it halts (MOVING; at once where no axis follows it); once it
-rests the moves due are planned together (engagement.plan_engagement: each axis's move, checked
-against the machine's interference pairs with every other axis on its cam or where it holds, by
-check, given by whoever knows the machine), inline or through submit (a concurrent.futures
-submit: off the master thread, the axes holding meanwhile), and begun at the first step after;
-once every axis is on its cam the line shaft catches up with the master.
+An engagement that moves an axis off its cam (Follower.needs_move: from where its drive is),
+and an offset change (from the old cam onto the new), is made with the line shaft at rest: it
+halts (MOVING; at once where no axis follows it); once it rests the moves due are planned
+together (engagement.plan_engagement: each axis's move, checked against the machine's
+interference pairs with every other axis on its cam or where it holds, by check, given by
+whoever knows the machine), inline or through submit (a concurrent.futures submit: off the
+master thread, the axes holding meanwhile), and begun at the first step after; once every axis
+is on its cam the line shaft catches up with the master. Halted for another reason (a loss, a
+fault, disengaged, inactive), the moves wait until it is to follow again.
 
 From COMPILED_FROM axes on, a sample at which every axis is steady (Follower.steady: engaged on
 its cam with nothing else due) is computed for all axes in one NumPy pass from compiled tables
@@ -91,6 +93,8 @@ class SlaveAxes:
             self._tables = {program: compile_program(program) for program in
                             {follower.cam.program for follower in self.followers}}
         self.shaft = LineShaft(self.path_limits(), any(f.limits.direction for f in followers))
+        # A new design's path limits, taken once its offset changes' moves begin (see retarget).
+        self._retarget: Optional[tuple[PathLimits, bool]] = None
         self.virtual: Optional[MasterState] = None  # what the followers last followed
 
     def __len__(self) -> int:
@@ -112,6 +116,17 @@ class SlaveAxes:
         return PathLimits.of([follower.cam for follower in self._followers],
                              [follower.limits for follower in self._followers],
                              config.nominal_speed, config.distance)
+
+    def retarget(self, limits: PathLimits, one_way: bool) -> None:
+        """Take a new design's path limits (PathLimits of the new cams and limits): at once, or,
+        while an axis is to move onto a new cam (Follower.changing: on its old one until then),
+        when the moves begin, with theta_v at rest. Should a change be refused, the limits are
+        those of what the axes follow then (computed on this thread: a rare case)."""
+        if any(follower.changing for follower in self._followers):
+            self._retarget = limits, one_way
+        else:
+            self._retarget = None
+            self.shaft.retarget(limits, one_way)
 
     @property
     def status(self) -> str:
@@ -183,8 +198,9 @@ class SlaveAxes:
         """Begin the moves planned; have those due planned once the line shaft rests."""
         followers = self.followers
         if self._planning is None:
-            if state.omega or not any(follower.needs_move for follower in followers):
-                return
+            if state.omega or self.shaft.why != MOVING or not any(
+                    follower.needs_move for follower in followers):
+                return  # (halted for another reason: the moves wait until it follows again)
             master = MasterMotion(state.track, 0.0)
             requests = {name: follower.move_request(master)
                         for name, follower in zip(self.names, followers) if follower.needs_move}
@@ -202,6 +218,11 @@ class SlaveAxes:
         for name, follower in zip(self.names, followers):
             if name in found and follower.needs_move:  # (still: not disengaged meanwhile)
                 follower.begin_move(found[name], state)
+        if self._retarget is not None and not any(f.changing for f in followers):
+            limits, self._retarget = self._retarget, None
+            if any(isinstance(move, str) for move in found.values()):  # a change refused
+                limits = self.path_limits(), limits[1]
+            self.shaft.retarget(*limits)
 
     def _resume(self) -> None:
         """Once no axis moves onto its cam, let the line shaft follow the master (or rest,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Callable, Mapping, Optional, Union
 
-from .engage import Held
+from .slave_path import Held
 from .moves import MasterMotion, Move, MoveRequest, on_cam
 
 #: Checks every axis's move (by axis name; an axis on its cam or holding: a move of duration 0)

@@ -1,8 +1,7 @@
 """
 Run a slave on an electronic cam of its machine's line shaft: the first engagement (PLCopen
 MC_CamIn start modes), one-shot cams, offset changes and design changes, all without a step in
-the commands and, with slave limits set, within the axis's velocity, acceleration and direction
-(slave_limits).
+the commands and within the axis's velocity, acceleration and direction (slave_limits, moves).
 
 The master a follower sees is the machine's virtual master (line_shaft): master losses, new
 master origins, disengaging, faults and an inactive node are stops and resynchronizations of that
@@ -24,14 +23,13 @@ An engagement starts from the last command; before any command, or when rejoinin
 fault (rejoin), from the slave's reported position (slave.state_topic) when known, else none: the
 slave then starts on the cam's own value. A rotary slave joins the cam at a whole number of turns
 from where it is (slave_limits.join_turns), never by unwinding the turns it made.
-Offset changes while the master runs blend from the old cam to the new one over master travel
-(plan_blend: within the limits at the larger of the master's speed and cam_speed); other design
-changes wait for a place the two designs share (Handover). A one-shot cam (master.periodic
-false) holds the position it reaches one master cycle (one cam turn) after its start: the end
-of profile.
-With slave limits or a direction set, a slave whose blend can no longer be followed (the master
-turned back under a one-way axis, or runs so fast that the cam exceeds the velocity limit) stops
-within its acceleration limit (Stop), holds, and engages again once it can.
+An offset (phase) change while the slave follows its cam is a move in time from the old cam onto
+the new one (as an engagement's: needs_move, with the line shaft at rest, checked against the
+pairs; refused, the slave stays on the old cam); other design changes wait for a place the two
+designs share (Handover). A one-shot cam (master.periodic false) holds the position it reaches
+one master cycle (one cam turn) after its start: the end of profile.
+A one-way slave whose commands would turn back (the line shaft never does: only a move's
+round-off or a bug) stops within its acceleration limit (Stop) and holds.
 """
 from __future__ import annotations
 
@@ -42,13 +40,12 @@ from typing import Any, Mapping, Optional
 import numpy as np
 
 from ..cam_angles import TWO_PI
-from .engage import Blend, Held, SlavePath
+from .slave_path import Held, SlavePath
 from .handover import Handover
 from .master import chain_rule, ElectronicCam, Setpoints
 from .master_tracker import MasterState
 from .moves import AxisState, MasterMotion, Move, MoveRequest, on_cam
-from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks, Plan,
-                           plan_blend, plan_speed, shifted, SlaveLimits)
+from .slave_limits import AxisUnit, BACKWARD_TOLERANCE, CamPeaks, shifted, SlaveLimits
 from .stop import Stop
 
 IMMEDIATE, RAMP, NEXT_CYCLE = 'immediate', 'ramp', 'next_cycle'
@@ -66,8 +63,8 @@ NEXT_CYCLE_TOLERANCE = 1e-9
 class EngageConfig:
     """master.engage_mode, master.engage_distance_deg (in rad of master), master.periodic.
 
-    nominal_speed is the master speed at cam_speed (rad/s): blends are planned for at least it,
-    and an axis without limits moves onto its cam no faster than its cam at it.
+    nominal_speed is the master speed at cam_speed (rad/s): an axis without limits moves onto
+    its cam no faster than its cam at it.
     """
 
     mode: str = RAMP
@@ -87,7 +84,7 @@ class Follower:
     """The slave's commands for each master sample, and what it is doing (phase, reason).
 
     unit says the slave's values in messages; events collects what the node logs
-    (blends planned, refusals, stops), oldest first.
+    (moves, refusals, stops), oldest first.
     """
 
     def __init__(self, cam: ElectronicCam, config: EngageConfig, engage: bool,
@@ -104,6 +101,8 @@ class Follower:
         self._stop: Optional[Stop] = None
         self._move: Optional[Move] = None  # the move onto the cam under way
         self._move_ns = 0  # its start (the virtual master's stamp)
+        self._changing: Optional[ElectronicCam] = None  # an offset change's cam, to move onto
+        self._requested: Optional[ElectronicCam] = None  # the cam of the last move_request
         self._peaks = (cam, CamPeaks.of(cam))
         self._start = 0.0  # master track where the cam run began
         self._last: Optional[MasterState] = None  # the previous sample
@@ -112,10 +111,19 @@ class Follower:
 
     @property
     def needs_move(self) -> bool:
-        """Say whether the engagement due is a move off the cam: the line shaft must rest."""
+        """Say whether a move off the cam is due (an engagement's or an offset change's): the
+        line shaft must rest."""
+        if not self.wanted or self._origin() is None:
+            return False
         mode = self.config.mode
-        return self._pending and self.wanted and self._origin() is not None and (
+        return self._changing is not None or self._pending and (
             mode == RAMP or mode == IMMEDIATE and bool(self.limits.limited or self.limits.turn))
+
+    @property
+    def changing(self) -> bool:
+        """Say whether an offset change waits to move the slave onto its new cam (it follows
+        the old one until then)."""
+        return self._changing is not None
 
     @property
     def joined(self) -> ElectronicCam:
@@ -171,13 +179,28 @@ class Follower:
         """Return the move due (needs_move) with the virtual master resting as master, to plan
         (MoveRequest.plan) here or elsewhere; begin_move then makes it."""
         origin = self._origin()
+        if self._changing is not None:  # from its old cam where theta_v rests
+            origin = float(self._path.derivatives(master.theta).y)
         assert origin is not None
-        return MoveRequest(self.cam, self.limits, AxisState(origin), master,
+        self._requested = self._changing or self.cam  # (peaks: the same for any offsets)
+        return MoveRequest(self._requested, self.limits, AxisState(origin), master,
                            self.config.nominal_speed, self.unit, self._peaks[1])
 
     def begin_move(self, found: Move | str, state: MasterState) -> None:
-        """Begin a planned (and checked) move at this sample, or hold saying why not."""
-        self._begin_at(state)
+        """Begin a planned (and checked) move at this sample, or say why not: an engagement
+        holds, an offset change leaves the slave on its old cam. A move planned for a cam
+        changed again since is not begun (needs_move stays: planned again)."""
+        changing = self._changing
+        if self._requested is not (changing or self.cam):
+            return
+        self._changing = None
+        if changing is None:
+            self._begin_at(state)
+        elif isinstance(found, str):
+            self.events.append(f'offset change refused, the slave stays on its old cam: {found}')
+            return
+        else:
+            self._set_cam(changing)
         if isinstance(found, str):
             self.phase, self.reason = HOLDING, found
             self.events.append(f'not engaged: {found}')
@@ -187,9 +210,10 @@ class Follower:
             return
         self.phase, self._move, self._move_ns = ENGAGING, found, state.stamp_ns
         gap = abs(found.start.position - float(found.cam.derivatives(state.track).y))
+        what = 'its new cam' if changing is not None else 'its cam'
         self.events.append(
             f'{"immediate engagement moves" if self.config.mode == IMMEDIATE else "moves"} '
-            f'onto its cam: {self.unit.say(gap)} in {found.duration:.6g} s'
+            f'onto {what}: {self.unit.say(gap)} in {found.duration:.6g} s'
             + (f' after {found.delay:.6g} s' if found.delay else ''))
 
     def change(self, cam: ElectronicCam, config: EngageConfig,
@@ -198,13 +222,15 @@ class Follower:
         old, self.config = self.cam, config
         if limits is not None:
             self.limits = limits  # (the cam's peaks are its own, whatever the limits)
-        self.handover = None
+        self.handover = self._changing = None  # (a change not begun yet is replaced)
         if self.phase not in RUNNING or self._last is None:
             self._set_cam(cam)
             self._path = cam
             if self.phase == WAITING_CYCLE:
                 self.phase, self._pending = HOLDING, True  # checked again on the new cam
             return 'applied at once (not following the master)'
+        if old.program == cam.program and old.mapping == cam.mapping:
+            return 'cam unchanged'
         same = replace(old.mapping, master_offset=0.0, slave_offset=0.0) == replace(
             cam.mapping, master_offset=0.0, slave_offset=0.0) and old.program == cam.program
         if not (same or self.phase == ENGAGING):
@@ -213,21 +239,12 @@ class Follower:
         if self._move is not None:
             return 'refused, the slave runs on the old cam: it is moving onto it (change it ' \
                 'again once engaged)'
-        self._set_cam(cam)  # planned against the new cam's own peaks
-        plan = self._plan(self._path, cam, self._last)
-        if isinstance(plan, str):
-            self._set_cam(old)
-            return f'refused, the slave runs on the old cam: {plan}'
-        self._path, self.phase = plan.blend, ENGAGING
-        return f'blended over {math.degrees(plan.blend.distance):.6g} deg of master'
+        self._changing = cam
+        return 'moves onto the new cam in time, with the line shaft at rest'
 
     def command(self, state: MasterState) -> Optional[Setpoints]:
         """Return the setpoints for a master sample (None: nothing commanded yet, none due)."""
         track = state.track
-        if self.phase == ENGAGING and self.limits.limited:  # on the cam: the line shaft's
-            problem = self._cam_problem(state.omega, velocity_only=True)
-            if problem:
-                self._begin_stop(problem)
         if self.phase == STOPPING:
             return self._stopping(state)
         if self._pending and self.wanted:
@@ -261,7 +278,7 @@ class Follower:
         Return the cam whose setpoints alone are this sample's command, or None.
 
         That is the cam the slave is engaged on (on its whole turns) when nothing else is due
-        at the sample: no engagement to begin, blend, pending design, stop or one-shot end.
+        at the sample: no engagement to begin, move, pending design, stop or one-shot end.
         Its setpoints, unless they move
         against slave.direction, are what command() returns; taking them with took() leaves the
         follower as command() does. None: call command().
@@ -308,47 +325,15 @@ class Follower:
         return self.held if self.held is not None else self.present
 
     def _set_cam(self, cam: ElectronicCam) -> None:
-        """Follow a new design (its peaks are refined again only when its motion differs)."""
+        """Follow a new design (its peaks, over a cycle whatever the offsets, are refined again
+        only when its motion differs)."""
         old = self._peaks[0]
-        same = old.program == cam.program and replace(old.mapping, slave_offset=0.0) == \
-            replace(cam.mapping, slave_offset=0.0)
+        same = old.program == cam.program and replace(
+            old.mapping, slave_offset=0.0, master_offset=0.0) == replace(
+                cam.mapping, slave_offset=0.0, master_offset=0.0)
         self.cam = cam
         if not same:
             self._peaks = (cam, CamPeaks.of(cam))
-
-    def _cam_peaks(self, omega: float, alpha: float) -> Peaks:
-        """Return the cam's own peaks at a master speed and acceleration."""
-        return self._peaks[1].at(omega, alpha, self.limits.direction)
-
-    def _cam_problem(self, omega: float, velocity_only: bool = False) -> str:
-        """Say why the cam itself cannot be followed at a master speed ('' if it can)."""
-        if not self.limits.limited:
-            return ''
-        peaks = self._cam_peaks(omega, 0.0)
-        if velocity_only:
-            peaks = peaks._replace(acceleration=0.0)
-        excess = peaks.excess(self.limits, self.unit)
-        return f'the cam at master speed {omega:.6g} rad/s: {excess}' if excess else ''
-
-    def _plan(self, start: SlavePath, cam: ElectronicCam, state: MasterState) -> Plan | str:
-        """Return the shortest blend within the limits onto the cam (whole turns chosen)."""
-        omega = plan_speed(state.omega, self.config.nominal_speed)
-        position = float(start.derivatives(state.track).y)
-        cam_peaks = self._peaks[1].at(omega, 0.0, self.limits.direction  # the new cam's
-                                      if self.limits.limited else 0)
-        candidates = join_turns(cam, state.track, position, self.limits)
-        plans = [plan_blend(start, shifted(cam, turns, self.limits), state.track, omega, 0.0,
-                            self.config.distance, self.limits, self.unit, cam_peaks)
-                 for turns in candidates]
-        found = [(plan.blend.distance, turns, plan) for turns, plan in zip(candidates, plans)
-                 if not isinstance(plan, str)]
-        if not found:
-            return str(plans[-1])
-        _, self._turns, plan = min(found, key=lambda each: each[0])
-        note = plan.note(omega, self.unit)
-        if note:
-            self.events.append(note)
-        return plan
 
     def _next_cycle_problem(self, origin: Optional[float]) -> str:
         """Say why next_cycle cannot start from origin ('' if it can, or for another mode)."""
@@ -412,14 +397,12 @@ class Follower:
             self.phase, self._path, self._start = ENGAGED, self.joined, float(crossed)
 
     def _run(self, state: MasterState) -> None:
-        """Follow the path: finish a blend, hand a design over, end a one-shot cam."""
+        """Follow the path: finish a move, hand a design over, end a one-shot cam."""
         track = state.track
         handover = self.handover
         if handover is not None and handover.due(track, state.step, state.omega):
             self._set_cam(shifted(handover.new, -self._turns, self.limits))
             self._path, self.handover = handover.new, None
-        if isinstance(self._path, Blend) and self._path.done(track):
-            self._path, self.phase = self._path.end, ENGAGED
         move = self._move
         if move is not None and (state.stamp_ns - self._move_ns) * 1e-9 >= move.duration:
             self._move, self.phase = None, ENGAGED

@@ -49,7 +49,7 @@ from ruckig import InputParameter, Ruckig, RuckigError, Trajectory
 
 from ..cam_angles import TWO_PI
 from ..extremes import refine_extremum, refine_extrema
-from .engage import SlavePath
+from .slave_path import SlavePath
 from .master import ElectronicCam
 from .slave_limits import (AxisUnit, BACKWARD_TOLERANCE, CamPeaks, join_turns, Peaks,
                            PLAN_MARGIN, SAMPLES_PER_RAD, shifted, SlaveLimits)

@@ -10,20 +10,15 @@ so a cam's peaks at a speed follow from its peaks per rad of master (CamPeaks, r
 cam: max |v| = max |y'| |omega| exactly, max |a| <= max |y''| omega^2 + max |y'| |alpha|, exact
 at constant master speed and on the safe side otherwise).
 
-A blend (engage.Blend) from path A to path B over master travel D has v = Y' omega with
-Y' = (1 - b) A' + b B' + b' (B - A) / D: the longer the blend, the nearer its peaks come to those
-of A and B. plan_blend finds the shortest D, at least the engage distance, at which the blend's
-refined peaks over its whole travel stay within the limits (PLAN_MARGIN below each) and it never
-moves against the direction, at constant master speed, the larger of the present one and the
-speed at cam_speed: a faster master scales a blend's velocity as it scales the cam's own. A rotary
-slave (length_unit deg) joins the cam at a whole number of turns from its own position: the
-nearest, or in the allowed direction when the nearest cannot be reached without turning back.
+Moves off the cam (moves.py) are planned PLAN_MARGIN below each limit. A rotary slave
+(length_unit deg) joins the cam at a whole number of turns from its own position: the nearest, or
+in the allowed direction when the nearest cannot be reached without turning back.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import NamedTuple, Optional, Union
+from typing import NamedTuple
 
 import numpy as np
 
@@ -31,15 +26,11 @@ from ..cam_angles import TWO_PI
 from ..config.parameters import UNITS
 from ..config.schema import CamConfig
 from ..extremes import refine_extrema
-from .engage import Blend, SlavePath
 from .master import ElectronicCam
 
 #: Grid of a peak search: samples per rad of cam angle travelled (0.1 deg), and the fewest.
 SAMPLES_PER_RAD, FEWEST_SAMPLES = 180.0 / math.pi / 0.1, 512
-#: A blend's travel grows by this factor until it is within the limits, up to LONGEST_CYCLES
-#: master cycles, then is bisected BISECTIONS times between the last two travels.
-GROWTH, LONGEST_CYCLES, BISECTIONS = 1.5, 64.0, 6
-#: Blends are planned this fraction below each limit: more than a refined peak's error.
+#: Moves are planned this fraction below each limit: more than a refined peak's error.
 PLAN_MARGIN = 1e-6
 #: Velocity (m/s or rad/s) against slave.direction that counts as none (round-off in a dwell).
 BACKWARD_TOLERANCE = 1e-9
@@ -151,15 +142,6 @@ def _slopes(cam: ElectronicCam, q: np.ndarray) -> np.ndarray:
     return np.array([d.dy, d.dy, np.abs(d.d2y)])
 
 
-def _commands(path: SlavePath, q: np.ndarray, omega: float, alpha: float,
-              direction: int) -> np.ndarray:
-    """Return rows |v|, |a| and the velocity against the direction at master positions q."""
-    d = path.derivatives(q)
-    velocity = d.dy * omega
-    return np.array([np.abs(velocity), np.abs(d.d2y * omega * omega + d.dy * alpha),
-                     -direction * velocity])
-
-
 def _refined(func, low: float, high: float, kinds: tuple[str, ...], breaks: np.ndarray,
              cam: ElectronicCam) -> list[tuple[float, float]]:
     """Refine the extremes of func's rows over master positions [low, high] (see extremes)."""
@@ -167,87 +149,6 @@ def _refined(func, low: float, high: float, kinds: tuple[str, ...], breaks: np.n
                                           * SAMPLES_PER_RAD))
     q = np.unique(np.concatenate([np.linspace(low, high, count + 1), breaks]))
     return refine_extrema(func, q, func(q), kinds, breaks=breaks, period=None)
-
-
-def path_peaks(path: SlavePath, low: float, high: float, omega: float, alpha: float,
-               direction: int, cam: ElectronicCam) -> Peaks:
-    """Return the refined peaks of a path's commands over master positions [low, high]."""
-    found = _refined(lambda q: _commands(path, q, omega, alpha, direction), low, high,
-                     ('max', 'max', 'max'), path.breaks(low, high), cam)
-    return Peaks(*(value for value, _ in found))
-
-
-class Plan(NamedTuple):
-    """A blend within the limits, its peaks and the end cam's own at the planning speed."""
-
-    blend: Blend
-    peaks: Peaks
-    cam: Peaks
-
-    def note(self, omega: float, unit: AxisUnit) -> str:
-        """Say the blend's peaks where they exceed the cam's own ('' where they do not)."""
-        peaks, cam = self.peaks, self.cam
-        if peaks.velocity <= cam.velocity and peaks.acceleration <= cam.acceleration:
-            return ''
-        return (f'blend over {math.degrees(self.blend.distance):.6g} deg of master peaks at '
-                f'{unit.say(peaks.velocity, "/s")} and {unit.say(peaks.acceleration, "/s^2")} '
-                f'at master speed {omega:.6g} rad/s (the cam itself: '
-                f'{unit.say(cam.velocity, "/s")}, {unit.say(cam.acceleration, "/s^2")})')
-
-
-def plan_speed(omega: float, nominal: float) -> float:
-    """
-    Return the master speed a blend is planned for: at least the speed at cam_speed (nominal).
-
-    Blends are planned at constant master speed: the master's own acceleration alpha adds
-    y' alpha to a blend's acceleration as it does to the cam's (and its estimate is noisy).
-    """
-    return math.copysign(max(abs(omega), nominal), omega or 1.0)
-
-
-def _blend_peaks(blend: Blend, omega: float, alpha: float, direction: int,
-                 cam: ElectronicCam) -> Peaks:
-    """Return the peaks of a blend over its whole travel in the master's direction."""
-    low, high = sorted((blend.q0, blend.q0 + math.copysign(blend.distance, omega)))
-    return path_peaks(blend, low, high, omega, alpha, direction, cam)
-
-
-def plan_blend(start: SlavePath, end: ElectronicCam, q0: float, omega: float, alpha: float,
-               least: float, limits: SlaveLimits, unit: AxisUnit,
-               cam: Peaks) -> Union[Plan, str]:
-    """
-    Return the shortest blend from start onto the cam end at master q0 within the limits.
-
-    omega, alpha: the master speed and acceleration planned for (rad/s, rad/s^2, omega not 0);
-    least: the shortest travel (rad of master); cam: the end cam's own peaks at that speed.
-    Return why not when no travel up to LONGEST_CYCLES master cycles keeps the blend within the
-    limits.
-    """
-    distance = least
-    peaks = _blend_peaks(Blend(start, end, q0, distance), omega, alpha, limits.direction, end)
-    if not limits.limited:
-        return Plan(Blend(start, end, q0, distance), peaks, cam)
-    limits = replace(limits, max_velocity=limits.max_velocity * (1.0 - PLAN_MARGIN),
-                     max_acceleration=limits.max_acceleration * (1.0 - PLAN_MARGIN))
-    longest = LONGEST_CYCLES * TWO_PI * end.mapping.master_scaling
-    shorter: Optional[float] = None
-    while peaks.excess(limits, unit):
-        if distance >= longest:
-            return (f'no blend up to {math.degrees(longest):.6g} deg of master keeps within the '
-                    f'limits: {peaks.excess(limits, unit)}')
-        shorter, distance = distance, min(distance * GROWTH, longest)
-        peaks = _blend_peaks(Blend(start, end, q0, distance), omega, alpha, limits.direction,
-                             end)
-    if shorter is not None:
-        for _ in range(BISECTIONS):
-            middle = 0.5 * (shorter + distance)
-            found = _blend_peaks(Blend(start, end, q0, middle), omega, alpha, limits.direction,
-                                 end)
-            if found.excess(limits, unit):
-                shorter = middle
-            else:
-                distance, peaks = middle, found
-    return Plan(Blend(start, end, q0, distance), peaks, cam)
 
 
 def shifted(cam: ElectronicCam, turns: int, limits: SlaveLimits) -> ElectronicCam:
