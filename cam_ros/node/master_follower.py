@@ -335,7 +335,7 @@ class MasterFollower:
             self._publish_state()
 
     def _say_events(self) -> None:
-        """Log what the followers noted: blends over the cam's peaks, refusals, stops."""
+        """Log what the followers noted: moves, refusals, stops."""
         logger = self._node.get_logger()
         for event in self._axes.events():  # one call site per severity, as rclpy requires
             if 'stopping:' in event:

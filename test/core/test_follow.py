@@ -1,4 +1,4 @@
-"""Engage modes, master loss, one-shot cams and offset blends of the Follower, without ROS."""
+"""Engage modes, master loss, one-shot cams and offset changes of the Follower, without ROS."""
 from __future__ import annotations
 
 import math

@@ -182,7 +182,8 @@ def test_sigint_and_sigterm_write_the_summary(start_cam_node, executor, tmp_path
         log = process.log()
         # taken down with its context valid: the last line reaches /rosout, no error besides
         assert 'recording stopped (node shutting down)' in log, log
-        assert not [bad for bad in ('Traceback', '[ERROR]', 'Failed to publish') if bad in log], log
+        assert not [bad for bad in ('Traceback', '[ERROR]', 'Failed to publish')
+                    if bad in log], log
         time.sleep(SETTLE_S)
         path = only_file(folder)
         recording = open_recording(path)

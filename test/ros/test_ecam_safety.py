@@ -122,7 +122,8 @@ def test_a_knife_keeps_its_limits_on_a_restart_a_far_engage_and_a_phase_shift(
     assert_within(t, p, 1)
     assert_on_cam(cam, master.q[-300:], p[-300:], TURN)
 
-    # A phase shift on the running knife: blended within the limits, never backwards.
+    # A phase shift on the running knife: a stop, a move onto the new cam and a catch-up,
+    # within the limits, never backwards.
     result = set_parameters(executor, [Parameter('master.offset_deg', value=1.5)])
     assert result.successful, result.reason
     shifted = ElectronicCam(design.program, MasterConfig.from_config(

@@ -25,16 +25,9 @@ SPEED = 2 * math.pi  # 1 turn/s: 0.72 deg per message
 #: the harmonic return (240-360 deg), where the follower moves.
 Q0 = math.radians(90.0)
 COUNT = 1400  # 2.8 s of master
-DISTANCE = math.radians(30.0)  # master.engage_distance_deg's default
 HORIZON = 0.05  # command.trajectory_horizon: a trajectory with every command
 INACTIVE_S, ACTIVE_S = 0.5, 0.5  # times the test waits in each state
 VELOCITY_RTOL = 1e-9
-
-
-def quintic_ramp(q, q_start, held, cam):
-    """The ramp engagement's position: held blended onto the cam over DISTANCE of master."""
-    u = np.minimum(np.abs(q - q_start) / DISTANCE, 1.0)
-    return held + (10 * u ** 3 - 15 * u ** 4 + 6 * u ** 5) * (cam - held)
 
 
 def test_inactive_sends_nothing_deactivate_stops_on_the_cam_activate_catches_up(

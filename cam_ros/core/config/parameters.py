@@ -216,8 +216,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
     _p('master.engage_mode', 'string', 'ramp', 'How the slave joins the cam (~/engage, '
        'start-up): at once, by a move in time within its limits, or at the next cycle start',
        choices=('immediate', 'ramp', 'next_cycle')),
-    _p('master.engage_distance_deg', 'double', 30.0, 'Master travel of an offset change\'s '
-       'blend, and of the line shaft\'s stop for an axis without limits', unit='deg',
+    _p('master.engage_distance_deg', 'double', 30.0, 'Master travel of the line shaft\'s stop '
+       'for an axis without limits', unit='deg',
        minimum=1e-3, maximum=1e6),
     _p('master.periodic', 'bool', True, 'Repeat the cam every cycle (false: a one-shot cam that '
        'holds its end position one master cycle after it starts)'),
@@ -229,8 +229,8 @@ PARAMETERS: tuple[ParameterSpec, ...] = (
        unit='length_unit|deg'),
     _p('slave.scaling', 'double', 1.0, 'Factor on the follower position', minimum=-1e3,
        maximum=1e3),
-    _p('slave.max_velocity', 'double', 0.0, 'Fastest the axis may be commanded: blends take the '
-       'master travel they need to stay within it (0: not limited)',
+    _p('slave.max_velocity', 'double', 0.0, 'Fastest the axis may be commanded: moves, stops '
+       'and catch-ups stay within it (0: not limited)',
        unit='length_unit|deg per s', minimum=0.0, maximum=1e9),
     _p('slave.max_acceleration', 'double', 0.0, 'Largest acceleration the axis may be commanded '
        '(0: not limited)', unit='length_unit|deg per s^2', minimum=0.0, maximum=1e12),

@@ -6,10 +6,9 @@ machine whose only axis is the joint `follower` and which has no interference pa
 file's axes are its own.
 
 A running machine takes an update only if no interference pair collides, neither in the new
-machine nor on the way to it. An axis whose offset changes blends from its old cam to its new one:
-at every machine angle its position lies between the two, so a clearance gap (linear in each
-axis's position, bilinear in two blending axes) and a zone's occupancy reach their worst at a mix
-of old and new axes: every pair with a changed axis is checked with each of its axes old or new.
+machine nor with any changed axis left on its old cam (a change's move may be refused when it is
+planned, and the axis then stays there): every pair with a changed axis is checked with each of
+its axes old or new. The moves onto the new cams are checked when they are planned.
 """
 from __future__ import annotations
 
