@@ -90,8 +90,10 @@ def test_a_stalled_axis_faults_the_machine_after_its_time_and_engage_recovers(
     stamps = sorted(stamp for stamp in reported if stamp in commanded)
     errors = np.array([commanded[stamp][0] - reported[stamp][0] for stamp in stamps])
     over = np.abs(errors) > LIMIT_MM * 1e-3
-    first = int(np.argmax(over))
-    assert over[first:first + round(TIME_S / DT) + 1].all()
+    # (a master message the node skipped can put one late report over the limit before the
+    # stall: the fault needs TIME_S of it)
+    span = round(TIME_S / DT) + 1
+    first = next(k for k in range(len(over)) if over[k:k + span].all())
     due = stamps[first] + round(TIME_S * 1e9)
     lines = [line for line in process.log().splitlines() if 'following error of' in line]
     assert len(lines) == 1 and lines[0].startswith('[ERROR]')  # said once
