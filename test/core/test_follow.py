@@ -118,3 +118,16 @@ def test_an_offset_change_while_running_is_a_move_due_and_the_old_cam_until_it_b
     points, phases = drive(follower, q)
     np.testing.assert_array_equal(points, CAM.setpoints(q).position)
     assert set(phases) == {ENGAGED}
+
+
+def test_a_design_sharing_no_place_with_the_running_one_is_a_move_never_a_step():
+    # A handover needs a common position and velocity; without one (here the master scaling
+    # changes) the change is a move like an offset change, not a step at standstill.
+    follower = Follower(CAM, EngageConfig(mode='immediate'), engage=True)
+    drive(follower, [1.0])
+    other = ElectronicCam(CAM.program, replace(CAM.mapping, master_scaling=2.0))
+    said = follower.change(other, EngageConfig())
+    assert said == 'moves onto the new cam in time, with the line shaft at rest'
+    assert follower.handover is None and follower.needs_move and follower.changing
+    at_rest = MasterState(10 ** 6, 1.0, 0.0, 0.0, 0.0, 1.0)
+    assert float(follower.command(at_rest).position) == float(CAM.setpoints(1.0).position)

@@ -23,10 +23,11 @@ An engagement starts from the last command; before any command, or when rejoinin
 fault (rejoin), from the slave's reported position (slave.state_topic) when known, else none: the
 slave then starts on the cam's own value. A rotary slave joins the cam at a whole number of turns
 from where it is (slave_limits.join_turns), never by unwinding the turns it made.
-An offset (phase) change while the slave follows its cam is a move in time from the old cam onto
-the new one (as an engagement's: needs_move, with the line shaft at rest, checked against the
-pairs; refused, the slave stays on the old cam); other design changes wait for a place the two
-designs share (Handover). A one-shot cam (master.periodic false) holds the position it reaches
+A design change while the slave follows its cam takes over where the two designs share a
+position and a velocity (Handover), without a step; where they share none (any offset or
+master scaling change) it is a move in time from the old cam onto the new one (as an
+engagement's: needs_move, with the line shaft at rest, checked against the pairs; refused, the
+slave stays on the old cam). A one-shot cam (master.periodic false) holds the position it reaches
 one master cycle (one cam turn) after its start: the end of profile.
 A one-way slave whose commands would turn back (the line shaft never does: only a move's
 round-off or a bug) stops within its acceleration limit (Stop) and holds.
@@ -231,14 +232,13 @@ class Follower:
             return 'applied at once (not following the master)'
         if old.program == cam.program and old.mapping == cam.mapping:
             return 'cam unchanged'
-        same = replace(old.mapping, master_offset=0.0, slave_offset=0.0) == replace(
-            cam.mapping, master_offset=0.0, slave_offset=0.0) and old.program == cam.program
-        if not (same or self.phase == ENGAGING):
-            self.handover = Handover(self.joined, shifted(cam, self._turns, self.limits))
-            return f'pending: {self.handover.describe()}'
         if self._move is not None:
             return 'refused, the slave runs on the old cam: it is moving onto it (change it ' \
                 'again once engaged)'
+        handover = Handover(self.joined, shifted(cam, self._turns, self.limits))
+        if len(handover.intervals):
+            self.handover = handover
+            return f'pending: {handover.describe()}'
         self._changing = cam
         return 'moves onto the new cam in time, with the line shaft at rest'
 
@@ -400,7 +400,7 @@ class Follower:
         """Follow the path: finish a move, hand a design over, end a one-shot cam."""
         track = state.track
         handover = self.handover
-        if handover is not None and handover.due(track, state.step, state.omega):
+        if handover is not None and handover.due(track, state.step):
             self._set_cam(shifted(handover.new, -self._turns, self.limits))
             self._path, self.handover = handover.new, None
         move = self._move

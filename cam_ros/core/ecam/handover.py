@@ -7,12 +7,11 @@ designs that both start at rest there, any stretch the two share. These places a
 two designs on a dense grid of cam angles joined with both programs' segment joints (where common
 points of two different designs usually are), and each end is refined by bisection to round-off.
 
-While the master moves, the change is due at the first master sample whose path from the
-previous sample meets such a place: the command then differs from the old cam's by the second
-order of the cam angle travelled past it, a small part of one step's travel. If the designs share
-no such place (also whenever the master offset or scaling change), the change waits for the
-master to stop; at standstill the position command steps to the new cam's (the axis controller
-moves there under its own limits).
+The change is due at the first master sample whose path from the previous sample meets such a
+place: the command then differs from the old cam's by the second order of the cam angle travelled
+past it, a small part of one step's travel. Designs that share no such place (also whenever the
+master offset or scaling change) are no handover: the follower moves onto the new cam in time
+(follow.py).
 """
 from __future__ import annotations
 
@@ -91,16 +90,14 @@ class Handover:
         self.old, self.new = old, new
         self.intervals = agreement(old, new)
 
-    def due(self, master: float, step: float, omega: float) -> bool:
+    def due(self, master: float, step: float) -> bool:
         """
         Say whether the new cam may take over at a master sample.
 
         master is the sample's position, step the unwrapped master travel since the previous
-        sample, omega the master speed (all rad, rad/s): due when the path from master - step to
-        master meets an agreement interval, or when the master stands still.
+        sample (rad): due when the path from master - step to master meets an agreement
+        interval (at rest: when the master stands in one).
         """
-        if step == 0.0 and omega == 0.0:
-            return True
         end = float(self.old.mapping.turns(master))
         start = end - step / self.old.mapping.master_scaling
         low, high = min(start, end), max(start, end)
@@ -109,9 +106,7 @@ class Handover:
 
     def describe(self) -> str:
         """Say where the change can happen, in degrees of cam angle."""
-        if not len(self.intervals):
-            return 'the designs share no position and velocity: waits for the master to stop'
         places = ', '.join(f'{math.degrees(low):.2f}' if high == low else
                            f'{math.degrees(low):.2f}-{math.degrees(high) % 360.0:.2f}'
                            for low, high in self.intervals)
-        return f'waits for cam angle {places} deg (or for the master to stop)'
+        return f'waits for cam angle {places} deg'
