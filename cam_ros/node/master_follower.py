@@ -33,20 +33,19 @@ from std_srvs.srv import SetBool
 from cam_ros.core import CamDesign
 from cam_ros.core.ecam.axes import by_axis, Commands, SlaveAxes
 from cam_ros.core.ecam.engagement import CheckMoves
-from cam_ros.core.ecam.follow import EngageConfig, Follower
+from cam_ros.core.ecam.follow import Follower
 from cam_ros.core.ecam.line_shaft import INACTIVE, LOST as HALTED_LOST
 from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
                                               MasterTracker, OK, read_master)
-from cam_ros.core.ecam.path_limits import PathLimits
-from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
-from cam_ros.core.ecam.switches import switch_table, SwitchTracks
+from cam_ros.core.ecam.slave_limits import AxisUnit
+from cam_ros.core.ecam.switches import SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
                                                 MASTER_TOPIC_KEY)
-from cam_ros.node.ecam_diagnostics import (design_statuses, engagement_status, jump_speed,
-                                           master_status, recording_status)
+from cam_ros.node.ecam_designs import EcamDesigns
+from cam_ros.node.ecam_diagnostics import engagement_status, master_status, recording_status
 from cam_ros.node.ecam_log import EcamLog
 from cam_ros.node.slave_feedback import SLAVE_QOS, SlaveFeedback, watches
 from cam_ros.node.master_intake import master_intake, MASTER_QOS, refuse_rewiring, stamp_ns
@@ -92,26 +91,21 @@ class MasterFollower:
         check: the machine's check of the moves onto the cams (interference pairs)."""
         self._node, self._recorder = node, recorder
         self._machine = machine
-        first = axes[0][1].config
-        values = first.parameters
-        self._config = MasterConfig.from_config(first)
-        self._units = [AxisUnit.of(design.config) for _, design in axes]
-        self._parameters = [dict(design.config.parameters) for _, design in axes]
-        # An engagement's moves are planned here, off the master thread (SlaveAxes).
+        self._designs = designs = EcamDesigns.of(node, axes, switches)
+        self._config = designs.master
+        values = designs.values
+        # Moves onto the cams are planned here, off the master thread (SlaveAxes).
         self._planner = ThreadPoolExecutor(max_workers=1, thread_name_prefix='move planning')
         self._axes = SlaveAxes(
-            [name for name, _ in axes],
-            [Follower(design.electronic_cam,
-                      EngageConfig.from_parameters(design.config.parameters),
-                      values['master.engage_on_start'], SlaveLimits.from_config(design.config),
-                      unit) for (_, design), unit in zip(axes, self._units)],
-            _interfaces(axes), check, self._planner.submit)
-        self._design_statuses = design_statuses(node, axes)
-        self._tracks = SwitchTracks(switch_table(switches))
-        self._speed_limit = _speed_limit(axes)
-        self._tracker = MasterTracker(int(self._config.timeout * 1e9), self._speed_limit[0],
+            designs.names,
+            [Follower(cam, engage, values['master.engage_on_start'], limits, unit)
+             for cam, engage, limits, unit in zip(designs.cams, designs.engage, designs.limits,
+                                                  designs.units)],
+            designs.interfaces, check, self._planner.submit)
+        self._tracks = SwitchTracks(designs.switches)
+        self._tracker = MasterTracker(int(self._config.timeout * 1e9), designs.speed_limit[0],
                                       int(values['master.velocity_window'] * 1e9),
-                                      self._config.max_speed, _nominal_speed(axes))
+                                      self._config.max_speed, self._config.nominal_speed)
         self._last_handover = 'none'
         # Design changes taken, and the stamp of the last master message before the latest one:
         # in ~/state, so a replay can make each recorded change at the same master message.
@@ -130,8 +124,8 @@ class MasterFollower:
         self._switches_pub = publisher(node, UInt32, '~/switches', LATCHED)
         self._state_pub = publisher(node, DiagnosticStatus, '~/state', LATCHED)
         self._lock = threading.Lock()  # master and clock threads vs executor (timers, updates)
-        self._slave_topics = sorted({design.config.parameters['slave.state_topic']
-                                     for _, design in axes} - {''})
+        self._slave_topics = sorted({parameters['slave.state_topic']
+                                     for parameters in designs.parameters} - {''})
         self._log = EcamLog(node, LATCHED, self._slave_topics, SLAVE_QOS)
         self._history = CommandHistory()
         self._feedback = SlaveFeedback(node, self._axes, self._slave_topics, self._history,
@@ -163,41 +157,32 @@ class MasterFollower:
         """Take new designs: an offset change is a move onto the new cam (line shaft at rest),
         other changes at a common place or at once; the line shaft's limits are those of the
         new designs (computed before the lock; taken once the moves onto them begin)."""
-        first = axes[0][1].config
-        config, values = MasterConfig.from_config(first), first.parameters
-        statuses = design_statuses(self._node, axes)
-        limit, table = _speed_limit(axes), switch_table(switches)
-        engage_configs = [EngageConfig.from_parameters(design.config.parameters)
-                          for _, design in axes]
-        slave_limits = [SlaveLimits.from_config(design.config) for _, design in axes]
-        path = PathLimits.of([design.electronic_cam for _, design in axes], slave_limits,
-                             engage_configs[0].nominal_speed, engage_configs[0].distance)
+        designs = EcamDesigns.of(self._node, axes, switches)
+        config, values, table = designs.master, designs.values, designs.switches
+        path = designs.path_limits()
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
-            self._design_statuses, self._config = statuses, config
+            before, self._designs, self._config = self._designs, designs, config
             self._topics.config = config
             tracker = self._tracker
             tracker.timeout_ns = int(config.timeout * 1e9)
             tracker.speed.window_ns = int(values['master.velocity_window'] * 1e9)
-            tracker.bound, tracker.nominal = config.max_speed, _nominal_speed(axes)
-            self._speed_limit, tracker.max_speed = limit, limit[0]
-            self._units = [AxisUnit.of(design.config) for _, design in axes]
+            tracker.bound, tracker.nominal = config.max_speed, config.nominal_speed
+            tracker.max_speed = designs.speed_limit[0]
             self._feedback.watches = watches(axes)
             said = []
-            for (name, design), follower, unit, engage, limits, before in zip(
-                    axes, self._axes.followers, self._units, engage_configs, slave_limits,
-                    self._parameters):
-                cam = design.electronic_cam
+            for name, follower, cam, unit, engage, limits, old, new in zip(
+                    designs.names, self._axes.followers, designs.cams, designs.units,
+                    designs.engage, designs.limits, before.parameters, designs.parameters):
                 if not self._machine and follower.cam.mapping != cam.mapping:
                     self._tracks = SwitchTracks(table)  # the cam angle of the switches moved
                 follower.unit = unit
                 # Said under the lock: the master thread cannot apply it (and say so) before.
                 told = follower.change(cam, engage, limits)
-                if design.config.parameters != before:
+                if new != old:
                     said.append((name, told))
-            self._axes.retarget(path, any(limit.direction for limit in slave_limits))
-            self._parameters = [dict(design.config.parameters) for _, design in axes]
-            self._axes.interfaces = _interfaces(axes)
+            self._axes.retarget(path, designs.one_way)
+            self._axes.interfaces = designs.interfaces
             if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
             self._last_handover = '; '.join(
@@ -284,7 +269,7 @@ class MasterFollower:
         self._send(state.stamp_ns, state.position, state.omega, self._axes.command(state))
         self._say_events()
         for name, handover, follower, unit in zip(self._axes.names, handovers,
-                                                  self._axes.followers, self._units):
+                                                  self._axes.followers, self._designs.units):
             if handover is not None and follower.handover is None:
                 self._said_applied(name, handover.old, handover.new, state, unit)
         self._publish_state()
@@ -292,8 +277,8 @@ class MasterFollower:
             self._node.get_logger().info(f'master {before} -> ok')
         if tracker.overspeed and not self._overspeed_said:
             self._node.get_logger().warning(
-                f'master speed {state.omega:.6g} rad/s over {self._speed_limit[1]} '
-                f'({self._speed_limit[0]:.6g} rad/s)')
+                f'master speed {state.omega:.6g} rad/s over {self._designs.speed_limit[1]} '
+                f'({self._designs.speed_limit[0]:.6g} rad/s)')
         self._overspeed_said = tracker.overspeed
 
     def _sending(self) -> bool:
@@ -358,7 +343,7 @@ class MasterFollower:
         if self._faulted:
             return
         self._faulted = axis
-        unit = self._units[self._axes.names.index(axis)]
+        unit = self._designs.units[self._axes.names.index(axis)]
         self._axes.shaft.halt(f'following error of {axis}')
         self._node.get_logger().error(
             f'following error of {axis}: {unit.say(error)} over slave.following_error_limit '
@@ -368,7 +353,7 @@ class MasterFollower:
 
     def _engage(self, request: SetBool.Request, response: SetBool.Response) -> SetBool.Response:
         with self._lock:
-            over = self._feedback.over_limit(self._units) if request.data else ''
+            over = self._feedback.over_limit(self._designs.units) if request.data else ''
             if over:
                 response.success = False
                 response.message = f'not engaged: {over}'
@@ -417,7 +402,7 @@ class MasterFollower:
         array = DiagnosticArray()
         array.header.stamp = self._node.get_clock().now().to_msg()
         with self._lock:
-            array.status = [*self._design_statuses, self._master_status(),
+            array.status = [*self._designs.statuses, self._master_status(),
                             self._engagement_status(),
                             recording_status(self._node, self._recorder())]
         self._diagnostics_pub.publish(array)
@@ -436,24 +421,9 @@ class MasterFollower:
         pending = [(name, follower.handover.describe())
                    for name, follower in zip(self._axes.names, self._axes.followers)
                    if follower.handover is not None]
-        return master_status(self._node, self._tracker, self._speed_limit, self._axes.shaft,
-                             topic=self._master_sub.topic_name, skipped=self._skipped,
+        return master_status(self._node, self._tracker, self._designs.speed_limit,
+                             self._axes.shaft, topic=self._master_sub.topic_name,
+                             skipped=self._skipped,
                              design_change=by_axis([name for name, _ in pending],
                                                    [said for _, said in pending]) or 'none',
                              last_design_change=self._last_handover)
-
-
-def _interfaces(axes: Sequence[tuple[str, CamDesign]]) -> list[str]:
-    """Return each axis's command.interface ('position' or 'velocity')."""
-    return [design.config.parameters['command.interface'] for _, design in axes]
-
-
-def _speed_limit(axes: Sequence[tuple[str, CamDesign]]) -> tuple[float, str]:
-    """Return the master speed to warn above and what sets it, over every axis."""
-    return min(MasterConfig.from_config(design.config).speed_limit(jump_speed(design))
-               for _, design in axes)
-
-
-def _nominal_speed(axes: Sequence[tuple[str, CamDesign]]) -> float:
-    """Return the master speed at cam_speed (the same for every axis of a machine)."""
-    return MasterConfig.from_config(axes[0][1].config).nominal_speed

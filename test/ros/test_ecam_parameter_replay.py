@@ -2,14 +2,13 @@
 
 A real node records its run while the test changes slave.offset, with the master paused or
 streaming at 250 Hz (the line shaft then stops, the axis moves onto the new cam in time, and the
-line shaft catches up). rclpy logs /parameter_events
-10-20 ms before the node's e-cam takes the design; the replay finds the master message it was
-taken at in the recorded ~/state. The recorded master stream is replayed by the CLI into a fresh
-node: with --apply-parameters its commands are the recorded ones bit for bit up to the change
-and once both command the new cam at the master again (in between, each node's move began at
-the step after its planner thread finished, and its catch-up integrated the steps it took);
-without, they are the old cam's after the change. Each node may skip a backlog: the runs are
-compared by stamp.
+line shaft catches up). rclpy logs /parameter_events 10-20 ms before the node's e-cam takes the
+design; the replay finds the master message it was taken at in the recorded ~/state. The
+recorded master stream is replayed by the CLI into a fresh node: with --apply-parameters its
+commands are the recorded ones bit for bit up to the change, and to round-off once both command
+the new cam at the master again (in between, each node's move began at the step after its
+planner thread finished, and its catch-up integrated the steps it took); without, they are the
+old cam's after the change. Each node may skip a backlog: the runs are compared by stamp.
 """
 from __future__ import annotations
 
@@ -124,9 +123,11 @@ def test_replay_with_apply_parameters_reproduces_a_recorded_run_with_a_change(
     # from where both stay on the new cam (in a dwell a catching-up axis can touch it before)
     off = (np.abs(mine - on_new) > 1e-12) | (np.abs(theirs - on_new) > 1e-12)
     locked = common[off].max()
-    outside = (common < changed) | (common > locked)
-    np.testing.assert_array_equal(mine[outside], theirs[outside])
-    assert outside.mean() >= 0.5
+    before, after = common < changed, common > locked
+    np.testing.assert_array_equal(mine[before], theirs[before])
+    # (to round-off after: each node's line shaft may be a machine cycle apart in theta_v)
+    np.testing.assert_allclose(mine[after], theirs[after], rtol=0, atol=1e-12)
+    assert (before | after).mean() >= 0.5
 
     unchanged = replay_into_fresh_node(start_cam_node, executor, path)
     assert len(unchanged.keys() & recorded.keys()) >= 100
