@@ -64,7 +64,9 @@ class EcamDesigns(NamedTuple):
         """Say whether any axis has slave.direction."""
         return any(limits.direction for limits in self.limits)
 
-    def path_limits(self) -> PathLimits:
-        """Return the line shaft's path limits of these designs (a costly refinement)."""
-        return PathLimits.of(self.cams, self.limits, self.engage[0].nominal_speed,
-                             self.engage[0].distance)
+    def path_limits(self, also: Sequence[tuple[ElectronicCam, SlaveLimits]] = ()) -> PathLimits:
+        """Return the line shaft's path limits of these designs, and of the (cam, limits) also
+        given (a costly refinement)."""
+        return PathLimits.of(self.cams + [cam for cam, _ in also],
+                             self.limits + [limits for _, limits in also],
+                             self.engage[0].nominal_speed, self.engage[0].distance)

@@ -39,7 +39,7 @@ from cam_ros.core.ecam.following_error import CommandHistory
 from cam_ros.core.ecam.master import CamMapping, ElectronicCam, MasterConfig
 from cam_ros.core.ecam.master_tracker import (BadMaster, JUMP_FACTOR, LOST, MasterState,
                                               MasterTracker, OK, read_master)
-from cam_ros.core.ecam.slave_limits import AxisUnit
+from cam_ros.core.ecam.slave_limits import AxisUnit, SlaveLimits
 from cam_ros.core.ecam.switches import SwitchTracks
 from cam_ros.recording import Recorder, TopicSpec
 from cam_ros.recording.parameter_replay import (CHANGED_AFTER_KEY, DESIGN_CHANGES_KEY,
@@ -160,8 +160,14 @@ class MasterFollower:
         designs = EcamDesigns.of(self._node, axes, switches)
         config, values, table = designs.master, designs.values, designs.switches
         path = designs.path_limits()
+        with self._lock:
+            running = self._running()
+        meanwhile = designs.path_limits(also=running)  # the old cams and the new
         self._watch_timer.timer_period_ns = int(config.timeout / 4.0 * 1e9)
         with self._lock:
+            if self._running() != running:  # a handover applied since: rare
+                running = self._running()
+                meanwhile = designs.path_limits(also=running)
             before, self._designs, self._config = self._designs, designs, config
             self._topics.config = config
             tracker = self._tracker
@@ -181,7 +187,8 @@ class MasterFollower:
                 told = follower.change(cam, engage, limits)
                 if new != old:
                     said.append((name, told))
-            self._axes.retarget(path, designs.one_way)
+            self._axes.retarget(path, designs.one_way, meanwhile,
+                                designs.one_way or any(limits.direction for _, limits in running))
             self._axes.interfaces = designs.interfaces
             if not table.same(self._tracks.table):
                 self._tracks = SwitchTracks(table)  # the next master sample says the states
@@ -193,6 +200,10 @@ class MasterFollower:
             self._changed_after = None if last is None else last.stamp_ns
             self._node.get_logger().info(f'design change {self._last_handover}')
             self._publish_state()
+
+    def _running(self) -> list[tuple[ElectronicCam, SlaveLimits]]:
+        """Return each axis's cam and limits as it runs them (lock held)."""
+        return [(follower.cam, follower.limits) for follower in self._axes.followers]
 
     def stop(self) -> None:
         """Stop taking master messages and the clock (before the node is destroyed)."""

@@ -151,10 +151,10 @@ def test_an_offset_change_on_a_running_machine_is_a_stop_a_checked_move_and_a_ca
     said = axes.followers[2].change(jaw.cam, EngageConfig.from_parameters(config.parameters),
                                     SlaveLimits.from_config(config))
     assert said == 'moves onto the new cam in time, with the line shaft at rest'
-    axes.retarget(PathLimits.of([axis.cam for axis in changed.axes],
-                                [SlaveLimits.from_config(axis.design.config)
-                                 for axis in changed.axes],
-                                omega, math.radians(30.0)), False)
+    cams = [axis.cam for axis in shop.axes + changed.axes]
+    limits = [SlaveLimits.from_config(axis.design.config) for axis in shop.axes + changed.axes]
+    axes.retarget(PathLimits.of(cams[3:], limits[3:], omega, math.radians(30.0)), False,
+                  PathLimits.of(cams, limits, omega, math.radians(30.0)), False)
     theta = 30.0 * DEG + omega * 1.0
     rows, virtual = [], []
     for k in range(1, 3000):
@@ -180,3 +180,44 @@ def test_an_offset_change_on_a_running_machine_is_a_stop_a_checked_move_and_a_ca
         turn = 2.0 * math.pi if name == 'knife' else 0.0
         shift = round((position - want) / turn) * turn if turn else 0.0
         assert position == pytest.approx(want + shift, abs=1e-12), name
+
+
+def test_while_a_design_waits_for_a_common_place_the_line_shaft_keeps_both_cams_limits():
+    # The jaw closes by a cycloid instead of a modified sine: the two designs share the dwells,
+    # so the new one takes over at 220 deg, where the jaw's close ends. Until then the jaw may
+    # run either cam: the line shaft's limits are those of both; then those of the new.
+    shop, axes = machine_axes({})
+    omega = 10.471975511965978
+    start = 160.0 * DEG
+    run(axes, start, 0.1, omega)
+    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
+    values['jaw.motion.laws'] = ['dwell', 'cycloidal', 'dwell', 'modified_sine', 'dwell']
+    changed = machine_from_values(values)
+    jaw = changed.axis('jaw')
+    config = jaw.design.config
+    said = axes.followers[2].change(jaw.cam, EngageConfig.from_parameters(config.parameters),
+                                    SlaveLimits.from_config(config))
+    assert said.startswith('pending: waits for cam angle')
+    cams = [axis.cam for axis in shop.axes + changed.axes]
+    limits = [SlaveLimits.from_config(axis.design.config) for axis in shop.axes + changed.axes]
+    new = PathLimits.of(cams[3:], limits[3:], omega, math.radians(30.0))
+    both = PathLimits.of(cams, limits, omega, math.radians(30.0))
+    axes.retarget(new, False, both, False)
+    step = omega * PERIOD * 1e-9
+    q = start + omega * 0.1 + step * np.arange(1, 200)
+    pending, in_force, jaw_at = [], [], []
+    for k, position in enumerate(q):
+        commands = axes.command(MasterState((101 + k) * PERIOD, position, omega, 0.0, step,
+                                            position))
+        pending.append(axes.followers[2].handover is not None)
+        in_force.append(axes.shaft.limits)
+        jaw_at.append(commands.position[2])
+    took = pending.index(False)  # the handover: within a step of 220 deg (the designs agree
+    assert abs(q[took] - 220.0 * DEG) <= step  # there to 1e-9 in position and slope)
+    assert not any(pending[took:]) and axes.followers[2].cam is jaw.cam
+    assert all(limits is both for limits in in_force[:took])
+    assert all(limits is new for limits in in_force[took:])
+    old = shop.axis('jaw').cam.setpoints(q[:took]).position
+    np.testing.assert_allclose(jaw_at[:took], old, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(jaw_at[took:], jaw.cam.setpoints(q[took:]).position, rtol=0,
+                               atol=1e-9)

@@ -174,8 +174,10 @@ def test_a_phase_shift_on_a_running_one_way_knife_is_a_forward_move_at_rest_in_l
     assert run.axes.shaft.mode == LOCKED
     shifted_cam, shifted_config, *_ = knife(**{'master.offset_deg': 1.5})
     assert run.follower.change(shifted_cam, shifted_config, limits).startswith('moves onto')
-    run.axes.retarget(PathLimits.of([shifted_cam], [limits], nominal, shifted_config.distance),
-                      True)
+    new = PathLimits.of([shifted_cam], [limits], nominal, shifted_config.distance)
+    both = PathLimits.of([cam, shifted_cam], [limits, limits], nominal, shifted_config.distance)
+    run.axes.retarget(new, True, both, True)
+    assert run.axes.shaft.limits is both  # on its old cam until the move: both meanwhile
     begun = None
     q = step * np.arange(2000, 14_000)
     for position in q:
@@ -183,7 +185,7 @@ def test_a_phase_shift_on_a_running_one_way_knife_is_a_forward_move_at_rest_in_l
         if begun is None and run.follower.move is not None:
             begun = run.follower.move, run.axes.virtual, len(run.positions)
     move, virtual, at = begun
-    assert virtual.omega == 0.0 and run.axes.shaft.limits.cams[0] is shifted_cam
+    assert virtual.omega == 0.0 and run.axes.shaft.limits is new
     # From the old cam (a whole number of turns on) where theta_v rests: the move's first
     # command
     start = run.positions[at - 1]
@@ -191,8 +193,8 @@ def test_a_phase_shift_on_a_running_one_way_knife_is_a_forward_move_at_rest_in_l
     assert move.start.position == start
     assert (start - on_old) / limits.turn == pytest.approx(round((start - on_old) / limits.turn),
                                                            abs=1e-12)
-    new = float(shifted_cam.setpoints(virtual.track).position)  # where theta_v rests
-    end = new + limits.turn * math.ceil((start - new) / limits.turn)  # the nearest turn ahead
+    onto = float(shifted_cam.setpoints(virtual.track).position)  # where theta_v rests
+    end = onto + limits.turn * math.ceil((start - onto) / limits.turn)  # the nearest turn ahead
     # Least time of a rest-to-rest move over d within v, a (no jerk limit): a trapezoid or a
     # triangle; the move is planned 1e-6 below each limit.
     d, v, a = end - start, limits.max_velocity, limits.max_acceleration

@@ -93,7 +93,7 @@ class SlaveAxes:
             self._tables = {program: compile_program(program) for program in
                             {follower.cam.program for follower in self.followers}}
         self.shaft = LineShaft(self.path_limits(), any(f.limits.direction for f in followers))
-        # A new design's path limits, taken once its offset changes' moves begin (see retarget).
+        # A new design's path limits, taken once every axis is on its new cam (see retarget).
         self._retarget: Optional[tuple[PathLimits, bool]] = None
         self.virtual: Optional[MasterState] = None  # what the followers last followed
 
@@ -117,16 +117,28 @@ class SlaveAxes:
                              [follower.limits for follower in self._followers],
                              config.nominal_speed, config.distance)
 
-    def retarget(self, limits: PathLimits, one_way: bool) -> None:
-        """Take a new design's path limits (PathLimits of the new cams and limits): at once, or,
-        while an axis is to move onto a new cam (Follower.changing: on its old one until then),
-        when the moves begin, with theta_v at rest. Should a change be refused, the limits are
-        those of what the axes follow then (computed on this thread: a rare case)."""
-        if any(follower.changing for follower in self._followers):
+    def retarget(self, limits: PathLimits, one_way: bool, meanwhile: PathLimits,
+                 one_way_meanwhile: bool) -> None:
+        """Take a new design's path limits (limits: of the new cams; meanwhile: of the cams the
+        axes ran and the new ones together). At once when every axis took its new cam; while
+        an axis is to move onto it (Follower.changing) or waits for a place to hand over
+        (Follower.handover), it may run either: meanwhile until none does. A refused change
+        leaves its axis on the old cam: meanwhile stays (on the safe side) until the next."""
+        if any(follower.changing or follower.handover is not None
+               for follower in self._followers):
             self._retarget = limits, one_way
+            self.shaft.retarget(meanwhile, one_way_meanwhile)
         else:
             self._retarget = None
             self.shaft.retarget(limits, one_way)
+
+    def _take_new_limits(self) -> None:
+        """Take the new design's path limits once every axis is on its new cam (retarget)."""
+        if self._retarget is None or any(follower.changing or follower.handover is not None
+                                         for follower in self._followers):
+            return
+        (limits, one_way), self._retarget = self._retarget, None
+        self.shaft.retarget(limits, one_way)
 
     @property
     def status(self) -> str:
@@ -185,6 +197,7 @@ class SlaveAxes:
         state = self._virtual(position, virtual)
         self._plan_moves(state)
         commands = self._follow(state)
+        self._take_new_limits()
         self._resume()
         return commands
 
@@ -217,12 +230,10 @@ class SlaveAxes:
         found, self._planning = self._planning.result(), None
         for name, follower in zip(self.names, followers):
             if name in found and follower.needs_move:  # (still: not disengaged meanwhile)
+                changing = follower.changing
                 follower.begin_move(found[name], state)
-        if self._retarget is not None and not any(f.changing for f in followers):
-            limits, self._retarget = self._retarget, None
-            if any(isinstance(move, str) for move in found.values()):  # a change refused
-                limits = self.path_limits(), limits[1]
-            self.shaft.retarget(*limits)
+                if changing and not follower.changing and isinstance(found[name], str):
+                    self._retarget = None  # refused: on its old cam (see retarget)
 
     def _resume(self) -> None:
         """Once no axis moves onto its cam, let the line shaft follow the master (or rest,
