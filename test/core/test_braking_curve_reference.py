@@ -111,3 +111,39 @@ def test_the_braking_curve_of_a_limited_line_is_toppras_controllable_set():
     # the grid's safe-side reading never more than 1e-3 above toppra's (measured 0.9954-1.0001).
     ratio = found / reference
     assert ratio.min() >= 0.99 and ratio.max() <= 1.001
+
+
+@pytest.mark.parametrize('before, after', [(0.01, 0.03), (0.003, None), (0.5, 0.2)])
+def test_the_band_over_a_step_across_the_cycle_start_is_the_exact_band_of_the_points_covered(
+        before, after):
+    """From before the cycle's end to after its start (None: half a cell past it): the band is
+    the narrowest exact band (admissible) at the grid points from the one at or before theta to
+    the one at or after theta + travel, both sides of the wrap (a harmonic cam limited in
+    velocity and acceleration, the cycle start 20 deg into its rise: no joint there, the band
+    narrowing across it)."""
+    design = build_design(parse_parameters({
+        'length_unit': 'mm', 'follower.type': 'none', 'cam_speed': SPEED,
+        'motion.laws': ['simple_harmonic', 'simple_harmonic'], 'motion.start_deg': [0.0, 100.0],
+        'motion.end_deg': [100.0, 360.0], 'motion.start_position': [0.0, 20.0],
+        'motion.end_position': [20.0, 0.0], 'master.offset_deg': 340.0}))
+    path = PathLimits.of([design.electronic_cam], [SlaveLimits(0.5, 2.0)], SPEED, DISTANCE)
+    grid, cycle = path.theta, path.cycle
+    end = 0.5 * grid[1] if after is None else after
+    theta, travel = cycle - before, before + end
+    covered = np.concatenate([grid[grid >= grid[grid <= theta].max()],
+                              grid[grid <= grid[grid >= end].min()]])
+    for omega in (0.0, 0.5 * SPEED, SPEED):
+        exact = np.array([path.admissible(q, omega)[1:] for q in covered])
+        lower, upper = path.band(theta, omega, travel)
+        assert lower == pytest.approx(exact[:, 0].max(), rel=1e-9, abs=1e-9)
+        assert upper == pytest.approx(exact[:, 1].min(), rel=1e-9, abs=1e-9)
+
+
+def test_without_acceleration_limits_a_stop_from_above_cam_speed_takes_the_engage_distance():
+    """The master's own limit stops its speed as the stop begins over the engage distance d:
+    from 1.5 x cam speed at 15^2 / (2 d) (1 - MARGIN) (closed form)."""
+    cam, path = velocity_limited()
+    speed = 1.5 * SPEED
+    deceleration = speed ** 2 / (2.0 * DISTANCE) * (1.0 - MARGIN)
+    assert path.master_limit(speed) == pytest.approx(deceleration, rel=1e-12)
+    assert path.master_limit(0.5 * SPEED) == path.master_acceleration  # at least cam speed's
