@@ -1,6 +1,6 @@
 """A machine's new limits taken at once when every axis runs its cam, against the cam's own
-velocity bound; a refused offset change keeps the limits of both cams; the command each
-interface is sent."""
+velocity bound; a refused offset change keeps the limits of both cams; the setpoints ahead; a
+disengaged line at rest; the command each interface is sent."""
 from __future__ import annotations
 
 import math
@@ -96,6 +96,7 @@ def test_the_setpoints_ahead_are_the_cams_at_constant_speed_and_disengaging_stop
         commands = axes.command(MasterState(round(k * DT * 1e9), theta, NOMINAL, 0.0,
                                             NOMINAL * DT, theta))
         held.append((commands.position[0], commands.velocity[0]))
+        assert axes.values(commands) == commands.position
     position, velocity = np.array(held[-250:]).T
     assert np.ptp(position) == 0.0 and not velocity.any()
     assert axes.status.startswith('at rest: disengaged')
