@@ -102,8 +102,8 @@ def test_the_setpoints_ahead_of_a_stop_follow_the_constant_deceleration_in_close
     step = NOMINAL * DT
     for k in range(5):
         theta = 2.0 + k * step
-        follower.command(MasterState(k * MS, theta, NOMINAL, 0.0, step, theta))
-    p0, v0 = follower.held, follower._velocity
+        last = follower.command(MasterState(k * MS, theta, NOMINAL, 0.0, step, theta))
+    p0, v0 = last.position, last.velocity
     assert follower.phase == ENGAGED and v0 > 1.0
     theta -= step
     follower.command(MasterState(5 * MS, theta, -NOMINAL, 0.0, -step, theta))
