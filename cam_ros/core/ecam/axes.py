@@ -124,8 +124,7 @@ class SlaveAxes:
         an axis is to move onto it (Follower.changing) or waits for a place to hand over
         (Follower.handover), it may run either: meanwhile until none does. A refused change
         leaves its axis on the old cam: meanwhile stays (on the safe side) until the next."""
-        if any(follower.changing or follower.handover is not None
-               for follower in self._followers):
+        if self._on_old_cams():
             self._retarget = limits, one_way
             self.shaft.retarget(meanwhile, one_way_meanwhile)
         else:
@@ -134,11 +133,16 @@ class SlaveAxes:
 
     def _take_new_limits(self) -> None:
         """Take the new design's path limits once every axis is on its new cam (retarget)."""
-        if self._retarget is None or any(follower.changing or follower.handover is not None
-                                         for follower in self._followers):
+        if self._retarget is None or self._on_old_cams():
             return
         (limits, one_way), self._retarget = self._retarget, None
         self.shaft.retarget(limits, one_way)
+
+    def _on_old_cams(self) -> bool:
+        """Say whether an axis may still run its old cam after a design change: its move onto
+        the new one not begun, or its handover waiting for a common place."""
+        return any(follower.changing or follower.handover is not None
+                   for follower in self._followers)
 
     @property
     def status(self) -> str:
