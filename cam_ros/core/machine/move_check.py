@@ -147,7 +147,7 @@ def _track(axis: Axis, move: Move, grid: FloatArray,
     def y(times: FloatArray) -> FloatArray:
         return as_checked(axis, raw(times))
     breaks = move.breaks(end)
-    if rotary(axis):
+    if rotary(axis) and end > 0.0:  # nothing to cross in no time (grid: the one time 0)
         breaks = np.concatenate((breaks, turn_crossings(raw, grid, breaks, period=None)))
     return y, breaks
 
