@@ -15,19 +15,9 @@ import pytest
 from cam_ros.core.geometry.arcs import fit_arcs, lines_only, MAX_SWEEP
 from cam_ros.core.geometry.followers import TranslatingFlat, TranslatingRoller
 from cam_ros.core.geometry.machining import cam_contour, place_points
-from cam_ros.core.motion.laws import make_law
-from cam_ros.core.motion.program import MotionProgram
-from cam_ros.core.motion.segment import Segment
+from test_machining import BASE, ECCENTRIC, MM, RISE, SEED
 
-DEG = math.pi / 180
-MM = 1e-3
-RISE, BASE, CUTTER = 20 * MM, 40 * MM, 6 * MM
-ECCENTRIC = MotionProgram((Segment(make_law('simple_harmonic'), 0.0, math.pi, 0.0, RISE),
-                           Segment(make_law('simple_harmonic'), math.pi, 2 * math.pi, RISE, 0.0)))
-SEED = MotionProgram((Segment(make_law('dwell'), 0.0, 90 * DEG, 0.0, 0.0),
-                      Segment(make_law('cycloidal'), 90 * DEG, 180 * DEG, 0.0, RISE),
-                      Segment(make_law('dwell'), 180 * DEG, 240 * DEG, RISE, RISE),
-                      Segment(make_law('simple_harmonic'), 240 * DEG, 2 * math.pi, RISE, 0.0)))
+CUTTER = 6 * MM
 SCAN = 3000  # samples of a run's dense scan, and again about its largest value
 
 

@@ -7,7 +7,8 @@ oscillating roller's tan phi = (L (1 - mu ds) - C cos psi) / (C sin psi), phi = 
 an oscillating flat face in a dwell rides a circle of radius C sin psi - f about the cam centre
 and leans by atan(|f| / (C cos psi)); seed 000's translating-roller pitch and surface radii in
 closed form, scanned densely then minimised (scipy), their roots by brentq; a brute-force chord
-distance for a cutter path's worst deviation.
+distance for a cutter path's worst deviation; a refusal's whole line, its figures from those
+references where it gives any.
 """
 import math
 import re
@@ -211,3 +212,84 @@ def test_a_roller_cam_reports_its_smallest_concave_pitch_radius():
     _, check = checked(TranslatingRoller(prime - roller, roller, offset))
     assert check.pitch_concave_radius_min == pytest.approx(found.fun, rel=1e-9)
     assert check.pitch_concave_radius_min <= -rho[index]
+
+
+def test_a_check_without_the_motion_takes_every_sample_the_first_too():
+    """Grid only (no program): the reported peak is the samples' own, here the first sample's
+    (the grid starts at the peak of the notes' closed form)."""
+    prime, offset = 0.04, 0.005
+    follower = TranslatingRoller(prime - 0.01, 0.01, offset)
+    d = math.sqrt(prime ** 2 - offset ** 2)
+
+    def closed_form(theta):
+        values = SEED.evaluate(np.mod(theta, 2 * math.pi))
+        return np.arctan((values.ds - offset) / (d + values.s))
+    peak = DENSE[np.argmax(np.abs(closed_form(DENSE)))]
+    theta = peak + np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    values = SEED.evaluate(np.mod(theta, 2 * math.pi))
+    check = check_geometry(cam_geometry(follower, theta, values.s, values.ds, values.d2s))
+    assert check.max_pressure_angle == pytest.approx(abs(closed_form(theta[:1])[0]), abs=EXACT)
+    assert check.max_pressure_angle_at == peak
+    assert check.max_pressure_angle > np.abs(closed_form(theta[1:])).max()
+
+
+def seed_geometry(follower, s=None, ds=None):
+    """Return cam_geometry of seed 000 on 8 samples, s or ds replaced when given."""
+    theta = np.linspace(0.0, 2 * math.pi, 8, endpoint=False)
+    values = SEED.evaluate(theta)
+    return cam_geometry(follower, theta, values.s if s is None else s,
+                        values.ds if ds is None else ds, values.d2s)
+
+
+ROLLER = TranslatingRoller(0.04, 0.01, 0.005)
+REFUSALS = {  # what is done: the whole line the user reads (name = value: rule)
+    'not a geometry': (lambda: check_geometry('x'), "geometry = 'x': must be a CamGeometry"),
+    'not a program': (lambda: check_geometry(seed_geometry(ROLLER), program='x'),
+                      "program = 'x': must be a MotionProgram or None"),
+    'a return limit alone': (
+        lambda: check_geometry(seed_geometry(ROLLER), max_pressure_angle_return=0.5),
+        'max_pressure_angle = None: give it with max_pressure_angle_return (the rise limit)'),
+    'theta not 1-D': (lambda: cam_geometry(ROLLER, np.zeros((2, 2)), 0.0, 0.0, 0.0),
+                      "theta = 'array of shape (2, 2)': must be 1-D with at least 1 sample"),
+    'a shorter s': (lambda: cam_geometry(ROLLER, np.zeros(4), np.zeros(3), 0.0, 0.0),
+                    "s = 'array of shape (3,)': must have the shape of theta (4,)"),
+    'an offset past the prime circle': (
+        lambda: TranslatingRoller(0.04, 0.01, 0.06),
+        'offset = 0.06: needs |offset| < base_radius + roller_radius = 0.05 m'),
+    'a roller below the cam centre': (
+        lambda: seed_geometry(ROLLER, s=np.full(8, -0.1)),
+        's[0] = -0.1: roller centre must stay above the cam centre (s > -0.0497494 m)'),
+    'an arm that cannot reach': (
+        lambda: OscillatingRoller(0.04, 0.01, 0.2, 0.07, True),
+        'base_radius = 0.04: the prime radius base_radius + roller_radius = 0.05 m must lie in '
+        '(|pivot_distance - arm_length|, pivot_distance + arm_length) = (0.13, 0.27) m so that '
+        'the roller reaches the cam'),
+    'a face arm outrunning the cam': (
+        lambda: seed_geometry(OscillatingFlat(0.04, 0.09, 0.01, True), s=np.zeros(8),
+                              ds=np.full(8, 2.0)),
+        "ds[0] = 2.0: the arm must turn slower than the cam in the cam's sense "
+        '(1 - mu*ds/dtheta > 0)'),
+    'a face reaching the pivot': (  # lengths exact in binary: the bound's own value
+        lambda: OscillatingFlat(0.5, 0.75, 0.25, False),
+        'face_offset = 0.25: base_radius + face_offset = 0.75 m must lie in (0, pivot_distance '
+        '= 0.75 m) so that the face touches the base circle'),
+    'a negative length': (lambda: TranslatingRoller(-0.04, 0.01, 0.0),
+                          'base_radius = -0.04: must be > 0 (m)'),
+    'not a number': (lambda: TranslatingRoller('a', 0.01, 0.0),
+                     "base_radius = 'a': must be a real number > 0 (m)"),
+}
+
+
+@pytest.mark.parametrize('case', REFUSALS)
+def test_a_refusal_names_the_parameter_its_value_and_the_rule(case):
+    do, line = REFUSALS[case]
+    with pytest.raises(InvalidParameter) as refused:
+        do()
+    assert str(refused.value) == line
+
+
+def test_a_placement_out_of_rounds_is_refused(monkeypatch):
+    monkeypatch.setattr(machining, 'MAX_ROUNDS', 1)  # the first placement's chords: too long
+    with pytest.raises(InvalidParameter) as refused:
+        place_points(cam_contour(ROLLER, SEED, False), 1e-5)
+    assert str(refused.value) == 'tolerance = 1e-05: could not be met by the point placement'
