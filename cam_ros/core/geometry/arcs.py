@@ -5,7 +5,9 @@ point P_m and P_j, its centre rounded to the output's resolution as a file write
 exact contour within the tolerance over the run: |(|C(theta) - c| - r_i)| + |r_j - r_i| <= T,
 the first term refined with extremes.refine_extrema (never below the truth), the second the
 radius mismatch the rounded end points leave. Runs grow greedily from each kept point (doubling,
-then bisection on the run's length); a run of one chord stays a line. An arc turns through at
+then bisection on the run's length); a run of one chord stays a line. Whether a run fits is not
+monotone in its length, so a run found is one that fits next to one that does not, not always
+the longest that would (every arc still keeps the tolerance). An arc turns through at
 most MAX_SWEEP.
 """
 from __future__ import annotations
@@ -114,7 +116,7 @@ def fit_arcs(contour: Contour, path: ToolPath, resolution: float = 0.0) -> ArcPa
             best = (i + span, *found)
             span *= 2
         low, high = (best[0] - i if best else 1), min(span, count - i + 1)
-        while high - low > 1:  # the longest run between a fitting and a failing length
+        while high - low > 1:  # a fitting length next to a failing one
             middle = (low + high) // 2
             found = fitter.arc(i, i + middle)
             if found is None:
