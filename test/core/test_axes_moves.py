@@ -202,7 +202,7 @@ def test_while_a_design_waits_for_a_common_place_the_line_shaft_keeps_both_cams_
     limits = [SlaveLimits.from_config(axis.design.config) for axis in shop.axes + changed.axes]
     new = PathLimits.of(cams[3:], limits[3:], omega, math.radians(30.0))
     both = PathLimits.of(cams, limits, omega, math.radians(30.0))
-    axes.retarget(new, False, both, False)
+    axes.retarget(new, True, both, False)  # one-way once on the new cams (a slave.direction)
     step = omega * PERIOD * 1e-9
     q = start + omega * 0.1 + step * np.arange(1, 200)
     pending, in_force, jaw_at = [], [], []
@@ -210,13 +210,13 @@ def test_while_a_design_waits_for_a_common_place_the_line_shaft_keeps_both_cams_
         commands = axes.command(MasterState((101 + k) * PERIOD, position, omega, 0.0, step,
                                             position))
         pending.append(axes.followers[2].handover is not None)
-        in_force.append(axes.shaft.limits)
+        in_force.append((axes.shaft.limits, axes.shaft.one_way))
         jaw_at.append(commands.position[2])
     took = pending.index(False)  # the handover: within a step of 220 deg (the designs agree
     assert abs(q[took] - 220.0 * DEG) <= step  # there to 1e-9 in position and slope)
     assert not any(pending[took:]) and axes.followers[2].cam is jaw.cam
-    assert all(limits is both for limits in in_force[:took])
-    assert all(limits is new for limits in in_force[took:])
+    assert all(limits is both and one_way is False for limits, one_way in in_force[:took])
+    assert all(limits is new and one_way is True for limits, one_way in in_force[took:])
     old = shop.axis('jaw').cam.setpoints(q[:took]).position
     np.testing.assert_allclose(jaw_at[:took], old, rtol=0, atol=1e-12)
     np.testing.assert_allclose(jaw_at[took:], jaw.cam.setpoints(q[took:]).position, rtol=0,
