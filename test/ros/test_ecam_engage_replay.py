@@ -185,10 +185,8 @@ def test_a_run_engaged_through_engage_replays_into_a_fresh_node(
     calls = Inbox(fresh.node, EngageRequest, '/cam/engage_requests', REQUESTS)
     replay(path)
     recorded = {stamp_of(m): m.position[1] for m in answers}
-    deadline = time.monotonic() + WAIT_S  # until the last message is answered
-    while stamps[-1] not in {stamp_of(m) for m in fresh.messages('joints')}:
-        assert time.monotonic() < deadline, second.log()
-        time.sleep(0.05)
+    fresh.answered(stream)  # the last message, or all the node will (one that came after its
+    # clock had stepped, the replay held up on a loaded machine, has no answer)
     assert second.stop(signal.SIGINT) == 0, second.log()
     replayed = {stamp_of(m): m.position[1] for m in fresh.messages('joints')}
     assert 2 * len(replayed.keys() & recorded.keys()) >= len(recorded)
