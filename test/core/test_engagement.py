@@ -6,26 +6,20 @@ reason. References: the requests' own start positions and plan_move's answers.
 from __future__ import annotations
 
 import numpy as np
-from conftest import CONFIG_DIR
+from test_move_references import axis, DEFAULT
 
-from cam_ros.core import read_parameters_file
 from cam_ros.core.ecam.engagement import plan_engagement
 from cam_ros.core.ecam.moves import AxisState, MasterMotion, Move, MoveRequest
 from cam_ros.core.ecam.slave_limits import CamPeaks
-from cam_ros.core.machine.move_check import axis_limits
-from cam_ros.core.machine.served import machine_from_values
 
 MASTER = MasterMotion(2.0)
 
 
 def request(offset: float, **changes) -> MoveRequest:
     """config/default.yaml's axis (with changes) asked onto its cam from offset m off it."""
-    values = read_parameters_file(CONFIG_DIR / 'default.yaml')
-    values.update(changes)
-    (one,) = machine_from_values(values).axes
-    limits, unit, nominal = axis_limits(one)
-    start = AxisState(float(one.cam.derivatives(MASTER.theta).y) + offset)
-    return MoveRequest(one.cam, limits, start, MASTER, nominal, unit, CamPeaks.of(one.cam))
+    cam, limits, unit, nominal = axis(DEFAULT, **changes)
+    start = AxisState(float(cam.derivatives(MASTER.theta).y) + offset)
+    return MoveRequest(cam, limits, start, MASTER, nominal, unit, CamPeaks.of(cam))
 
 
 def requests() -> dict[str, MoveRequest]:

@@ -10,22 +10,14 @@ import math
 
 import numpy as np
 import pytest
-from conftest import CONFIG_DIR
+from test_move_check import machine
 
-from cam_ros.core import read_parameters_file
 from cam_ros.core.ecam.moves import MasterMotion
 from cam_ros.core.machine.move_check import (check_moves, plan_moves, Sequence, sequence_moves,
                                              time_margin)
-from cam_ros.core.machine.served import machine_from_values
 
 DEG = math.pi / 180.0
 TWO_PI = 2.0 * math.pi
-
-
-def machine(**changes):
-    values = read_parameters_file(CONFIG_DIR / 'machine.yaml')
-    values.update(changes)
-    return machine_from_values(values)
 
 
 def test_axes_resting_on_their_cams_are_checked_where_they_stand():

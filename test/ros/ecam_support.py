@@ -122,6 +122,12 @@ class MasterLink:
         with self.inbox[key].arrived:
             return list(self.inbox[key].messages)
 
+    def after(self, key: str, message) -> list:
+        """Return what arrived on one output after message, one that arrived there (such as
+        the answer to the last master message: the node's own steps follow it)."""
+        arrived = self.messages(key)
+        return arrived[next(k for k, m in enumerate(arrived) if m is message) + 1:]
+
     def connect(self, process, stamp_ns: int = 1, advance: bool = True, publisher=None) -> None:
         """
         Send probes (position 0, at rest) until the node answers one: every path matched.

@@ -49,8 +49,7 @@ def test_a_lost_master_is_a_stop_on_the_cam_and_its_return_a_catch_up(start_cam_
     # answer to the last master message answered (on a loaded machine the stop may be over
     # before the test reads it).
     states.wait('at rest: master lost', timeout=5.0)
-    joints = link.messages('joints')
-    stop = joints[next(k for k, m in enumerate(joints) if m is answers[-1]) + 1:]
+    stop = link.after('joints', answers[-1])
     assert len(stop) > 20  # the clock stepped the line shaft: no freeze
     follower = np.array([m.position[1] for m in stop])
     speed = np.array([m.velocity[1] for m in stop])
